@@ -1,0 +1,1 @@
+//! The BVH over finite shapes (TODO(geometry helper)).

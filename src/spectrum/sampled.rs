@@ -1,0 +1,115 @@
+//! [`SampledSpectrum`]: the values of a spectral quantity at the [`N_LAMBDA`] wavelengths of one
+//! camera sample (radiance, throughput, reflectance...). Arithmetic is lane-wise.
+
+use super::N_LAMBDA;
+
+/// Values of a spectral quantity at the wavelengths of a [`super::SampledWavelengths`].
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct SampledSpectrum {
+    /// One value per wavelength lane.
+    pub values: [f32; N_LAMBDA],
+}
+
+impl SampledSpectrum {
+    /// All lanes set to `value`.
+    pub const fn splat(value: f32) -> Self {
+        Self { values: [value; N_LAMBDA] }
+    }
+    /// All lanes zero.
+    pub const fn zero() -> Self {
+        Self::splat(0.0)
+    }
+    /// Lane-wise map.
+    #[inline]
+    pub fn map(self, f: impl Fn(f32) -> f32) -> Self {
+        Self { values: self.values.map(f) }
+    }
+    /// Largest lane value.
+    #[inline]
+    pub fn max_value(&self) -> f32 {
+        self.values.iter().copied().fold(f32::NEG_INFINITY, f32::max)
+    }
+    /// True when every lane is exactly zero.
+    #[inline]
+    pub fn is_zero(&self) -> bool {
+        self.values.iter().all(|&v| v == 0.0)
+    }
+    /// Lane-wise `exp`.
+    #[inline]
+    pub fn exp(self) -> Self {
+        self.map(f32::exp)
+    }
+    /// Only lane `lane` kept, the others set to zero.
+    #[inline]
+    pub fn only_lane(self, lane: usize) -> Self {
+        let mut out = Self::zero();
+        out.values[lane] = self.values[lane];
+        out
+    }
+    /// True when every lane is finite.
+    #[inline]
+    pub fn is_finite(&self) -> bool {
+        self.values.iter().all(|v| v.is_finite())
+    }
+}
+
+impl std::ops::Add for SampledSpectrum {
+    type Output = Self;
+    #[inline]
+    fn add(self, rhs: Self) -> Self {
+        Self { values: std::array::from_fn(|i| self.values[i] + rhs.values[i]) }
+    }
+}
+impl std::ops::AddAssign for SampledSpectrum {
+    #[inline]
+    fn add_assign(&mut self, rhs: Self) {
+        *self = *self + rhs;
+    }
+}
+impl std::ops::Sub for SampledSpectrum {
+    type Output = Self;
+    #[inline]
+    fn sub(self, rhs: Self) -> Self {
+        Self { values: std::array::from_fn(|i| self.values[i] - rhs.values[i]) }
+    }
+}
+impl std::ops::Mul for SampledSpectrum {
+    type Output = Self;
+    #[inline]
+    fn mul(self, rhs: Self) -> Self {
+        Self { values: std::array::from_fn(|i| self.values[i] * rhs.values[i]) }
+    }
+}
+impl std::ops::MulAssign for SampledSpectrum {
+    #[inline]
+    fn mul_assign(&mut self, rhs: Self) {
+        *self = *self * rhs;
+    }
+}
+impl std::ops::Mul<f32> for SampledSpectrum {
+    type Output = Self;
+    #[inline]
+    fn mul(self, rhs: f32) -> Self {
+        self.map(|v| v * rhs)
+    }
+}
+impl std::ops::Div<f32> for SampledSpectrum {
+    type Output = Self;
+    #[inline]
+    fn div(self, rhs: f32) -> Self {
+        self.map(|v| v / rhs)
+    }
+}
+impl std::ops::Index<usize> for SampledSpectrum {
+    type Output = f32;
+    #[inline]
+    fn index(&self, i: usize) -> &f32 {
+        &self.values[i]
+    }
+}
+impl std::ops::IndexMut<usize> for SampledSpectrum {
+    #[inline]
+    fn index_mut(&mut self, i: usize) -> &mut f32 {
+        &mut self.values[i]
+    }
+}
