@@ -3,6 +3,15 @@
 //! See `ARCHITECTURE.md` for the data flow and the module map.
 #![deny(missing_docs)]
 
+pub mod camera;
+pub mod film;
 pub mod geometry;
+pub mod integrator;
+pub mod light;
+pub mod material;
 pub mod optics;
+pub mod output;
+pub mod render;
+pub mod sampler;
+pub mod scene;
 pub mod spectrum;

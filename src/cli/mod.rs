@@ -1,0 +1,59 @@
+//! Subcommands of the `prisma` binary, one file each, and the error type that maps failures to
+//! exit codes.
+
+mod render;
+
+use std::path::PathBuf;
+
+use clap::{Parser, Subcommand};
+
+/// prisma: a spectral Whitted ray tracer for glass and dispersion.
+#[derive(Debug, Parser)]
+#[command(name = "prisma", version, about, long_about = None)]
+pub struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Render a scene file to an OpenEXR image and a PNG preview.
+    Render(render::RenderArgs),
+}
+
+/// A failed command: bad input (exit code 2) or a failure while running (exit code 1).
+#[derive(Debug)]
+pub enum CliError {
+    /// The user's input is wrong (scene file, arguments).
+    Input(anyhow::Error),
+    /// Something failed while running (I/O, ...).
+    Failed(anyhow::Error),
+}
+
+impl CliError {
+    /// The process exit code.
+    pub fn exit_code(&self) -> u8 {
+        match self {
+            CliError::Input(_) => 2,
+            CliError::Failed(_) => 1,
+        }
+    }
+    /// The whole error chain on one line.
+    pub fn message(&self) -> String {
+        let (CliError::Input(e) | CliError::Failed(e)) = self;
+        format!("{e:#}")
+    }
+}
+
+/// Runs the parsed command line.
+pub fn run(cli: Cli) -> Result<(), CliError> {
+    match cli.command {
+        Some(Command::Render(args)) => render::run(&args),
+        None => render::run(&render::RenderArgs::default_scene(default_scene())),
+    }
+}
+
+/// The bundled dispersive showcase, found beside the crate's manifest.
+fn default_scene() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes").join("showcase.toml")
+}

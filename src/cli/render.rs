@@ -1,0 +1,161 @@
+//! `prisma render`: a scene file to `out/<scene>.exr` and `out/<scene>.png`.
+
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+
+use anyhow::{anyhow, Context};
+use clap::Args;
+
+use super::CliError;
+use prisma::output::{exr::write_exr, png::write_png};
+use prisma::render::{render, Job};
+use prisma::scene::build::{MAX_DEPTH, MAX_RESOLUTION, MAX_SPP};
+use prisma::spectrum::{LAMBDA_MAX_NM, LAMBDA_MIN_NM};
+
+/// Arguments of `prisma render`. Flags override the scene file's settings.
+#[derive(Debug, Args)]
+pub struct RenderArgs {
+    /// Scene file (TOML; see scenes/README.md).
+    scene: PathBuf,
+    /// Output EXR path [default: out/<scene>.exr, or out/<scene>_<NM>nm.exr with --wavelength].
+    #[arg(short, long, value_name = "OUT.exr")]
+    output: Option<PathBuf>,
+    /// PNG preview path [default: the EXR path with a .png extension].
+    #[arg(long, value_name = "OUT.png")]
+    preview: Option<PathBuf>,
+    /// Samples per pixel.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_SPP)))]
+    spp: Option<u32>,
+    /// Image width in pixels (alone, the height follows the scene's aspect ratio).
+    #[arg(long, value_name = "W", value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_RESOLUTION)))]
+    width: Option<u32>,
+    /// Image height in pixels (alone, the width follows the scene's aspect ratio).
+    #[arg(long, value_name = "H", value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_RESOLUTION)))]
+    height: Option<u32>,
+    /// Maximum number of specular bounces.
+    #[arg(long, value_name = "D", value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_DEPTH)))]
+    max_depth: Option<u32>,
+    /// Render threads [default: one per core]. The image does not depend on it.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=1024))]
+    threads: Option<u32>,
+    /// Seed of the random streams.
+    #[arg(long, value_name = "S")]
+    seed: Option<u64>,
+    /// Exposure of the PNG preview in stops (the EXR is never scaled).
+    #[arg(long, value_name = "EV", default_value_t = 0.0, allow_negative_numbers = true)]
+    exposure: f32,
+    /// Render a single wavelength (nm, 360–830): every channel holds the spectral radiance.
+    #[arg(long, value_name = "NM")]
+    wavelength: Option<f32>,
+    /// Do not print the progress bar and the closing summary.
+    #[arg(short, long)]
+    quiet: bool,
+}
+
+impl RenderArgs {
+    /// Arguments that render `scene` with its own settings.
+    pub fn default_scene(scene: PathBuf) -> Self {
+        Self {
+            scene,
+            output: None,
+            preview: None,
+            spp: None,
+            width: None,
+            height: None,
+            max_depth: None,
+            threads: None,
+            seed: None,
+            exposure: 0.0,
+            wavelength: None,
+            quiet: false,
+        }
+    }
+}
+
+/// Runs `prisma render`.
+pub fn run(args: &RenderArgs) -> Result<(), CliError> {
+    if let Some(nm) = args.wavelength {
+        if !(LAMBDA_MIN_NM..=LAMBDA_MAX_NM).contains(&nm) {
+            return Err(CliError::Input(anyhow!(
+                "--wavelength must be in {LAMBDA_MIN_NM}–{LAMBDA_MAX_NM} nm, got {nm}"
+            )));
+        }
+    }
+    if !args.exposure.is_finite() {
+        return Err(CliError::Input(anyhow!("--exposure must be finite, got {}", args.exposure)));
+    }
+    let mut scene = prisma::scene::load(&args.scene).map_err(|e| CliError::Input(e.into()))?;
+
+    let (width, height) = resolution(scene.camera.width(), scene.camera.height(), args.width, args.height)
+        .map_err(CliError::Input)?;
+    scene.camera = scene
+        .camera
+        .with_resolution(width, height)
+        .map_err(|e| CliError::Input(anyhow!("{}: {e}", args.scene.display())))?;
+    let mut settings = scene.settings.clone();
+    settings.spp = args.spp.unwrap_or(settings.spp);
+    settings.seed = args.seed.unwrap_or(settings.seed);
+    settings.max_depth = args.max_depth.unwrap_or(settings.max_depth);
+
+    let stem = match args.wavelength {
+        Some(nm) => format!("{}_{nm}nm", scene.name),
+        None => scene.name.clone(),
+    };
+    let exr_path = args.output.clone().unwrap_or_else(|| Path::new("out").join(format!("{stem}.exr")));
+    let png_path = args.preview.clone().unwrap_or_else(|| exr_path.with_extension("png"));
+
+    let show = !args.quiet && std::io::stderr().is_terminal();
+    let job = Job {
+        settings: settings.clone(),
+        threads: args.threads.unwrap_or(0) as usize,
+        monochromatic_nm: args.wavelength,
+        progress: show,
+    };
+    let (film, stats) = render(&scene, &job).map_err(|e| CliError::Failed(e.into()))?;
+
+    let rgb = film.linear_srgb();
+    write_exr(&exr_path, width, height, &rgb, film.xyz())
+        .with_context(|| "writing the EXR image")
+        .map_err(CliError::Failed)?;
+    write_png(&png_path, width, height, &rgb, args.exposure)
+        .with_context(|| "writing the PNG preview")
+        .map_err(CliError::Failed)?;
+
+    if !args.quiet {
+        let seconds = stats.elapsed.as_secs_f64();
+        println!(
+            "rendered {}: {width}×{height}, {} spp, {} in {seconds:.2} s on {} threads ({:.1} M rays, {:.2} M rays/s)",
+            args.scene.display(),
+            settings.spp,
+            match args.wavelength {
+                Some(nm) => format!("λ = {nm} nm"),
+                None => format!("{} λ/sample", settings.wavelengths),
+            },
+            stats.threads,
+            stats.rays as f64 * 1e-6,
+            stats.rays as f64 * 1e-6 / seconds.max(1e-9),
+        );
+        println!("wrote {} and {}", exr_path.display(), png_path.display());
+    }
+    Ok(())
+}
+
+/// The output resolution: the scene's, or the flags', keeping the aspect ratio when only one is given.
+fn resolution(
+    scene_w: u32,
+    scene_h: u32,
+    width: Option<u32>,
+    height: Option<u32>,
+) -> anyhow::Result<(u32, u32)> {
+    let aspect = f64::from(scene_w) / f64::from(scene_h);
+    let (w, h) = match (width, height) {
+        (Some(w), Some(h)) => (w, h),
+        (Some(w), None) => (w, (f64::from(w) / aspect).round().max(1.0) as u32),
+        (None, Some(h)) => ((f64::from(h) * aspect).round().max(1.0) as u32, h),
+        (None, None) => (scene_w, scene_h),
+    };
+    if w > MAX_RESOLUTION || h > MAX_RESOLUTION {
+        return Err(anyhow!("resolution {w}×{h} exceeds {MAX_RESOLUTION} pixels per side"));
+    }
+    Ok((w, h))
+}

@@ -1,0 +1,149 @@
+//! [`render`]: the image of a scene, tiles in parallel on a rayon pool.
+//!
+//! Every camera sample draws its random numbers from a stream keyed by (seed, pixel, sample),
+//! and each pixel's samples are summed in a fixed order, so the image is bit-identical whatever
+//! the thread count and tile schedule.
+
+use std::time::{Duration, Instant};
+
+use glam::Vec3;
+use indicatif::{ProgressBar, ProgressStyle};
+use rayon::prelude::*;
+
+use crate::film::Film;
+use crate::integrator::{TraceStats, Whitted};
+use crate::sampler::PixelRng;
+use crate::scene::{RenderSettings, Scene};
+use crate::spectrum::{cie, SampledWavelengths};
+
+/// Side of the square tiles rendered as units of parallel work, in pixels.
+const TILE: u32 = 16;
+/// Stack of each render thread: Whitted recursion runs on it, one frame per bounce.
+const THREAD_STACK_BYTES: usize = 64 << 20;
+
+/// What to render, beyond the scene.
+#[derive(Debug, Clone)]
+pub struct Job {
+    /// Sampling settings.
+    pub settings: RenderSettings,
+    /// Worker threads; 0 picks one per core.
+    pub threads: usize,
+    /// Render one wavelength (nm) as a radiance image instead of colour.
+    pub monochromatic_nm: Option<f32>,
+    /// Show a progress bar (on a terminal).
+    pub progress: bool,
+}
+
+/// Figures of a finished render.
+#[derive(Debug, Clone, Copy)]
+pub struct RenderStats {
+    /// Rays cast (camera, specular and shadow).
+    pub rays: u64,
+    /// Camera samples taken.
+    pub samples: u64,
+    /// Wall-clock time.
+    pub elapsed: Duration,
+    /// Threads used.
+    pub threads: usize,
+}
+
+/// Why a render could not run.
+#[derive(Debug, thiserror::Error)]
+pub enum RenderError {
+    /// The thread pool could not be built.
+    #[error("cannot start {threads} render threads: {source}")]
+    ThreadPool {
+        /// Threads asked for.
+        threads: usize,
+        /// The cause.
+        source: rayon::ThreadPoolBuildError,
+    },
+}
+
+/// Renders `scene` (its camera decides the resolution) as `job` says.
+pub fn render(scene: &Scene, job: &Job) -> Result<(Film, RenderStats), RenderError> {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(job.threads)
+        .stack_size(THREAD_STACK_BYTES)
+        .build()
+        .map_err(|source| RenderError::ThreadPool { threads: job.threads, source })?;
+    let threads = pool.current_num_threads();
+    let (width, height) = (scene.camera.width(), scene.camera.height());
+    let tiles: Vec<(u32, u32)> = (0..height.div_ceil(TILE))
+        .flat_map(|ty| (0..width.div_ceil(TILE)).map(move |tx| (tx * TILE, ty * TILE)))
+        .collect();
+    let progress = if job.progress { ProgressBar::new(tiles.len() as u64) } else { ProgressBar::hidden() };
+    if let Ok(style) =
+        ProgressStyle::with_template("{spinner} [{elapsed_precise}] {wide_bar} {percent}% eta {eta}")
+    {
+        progress.set_style(style);
+    }
+    let start = Instant::now();
+    let integrator = Whitted::new(
+        scene,
+        job.settings.max_depth,
+        job.settings.prune_below,
+        job.settings.area_light_samples,
+    );
+    let rendered: Vec<(Vec<Vec3>, TraceStats)> = pool.install(|| {
+        tiles
+            .par_iter()
+            .map(|&(x0, y0)| {
+                let tile = render_tile(scene, &integrator, job, x0, y0);
+                progress.inc(1);
+                tile
+            })
+            .collect()
+    });
+    progress.finish_and_clear();
+
+    let mut xyz = vec![Vec3::ZERO; width as usize * height as usize];
+    let mut rays = 0;
+    for (&(x0, y0), (pixels, stats)) in tiles.iter().zip(&rendered) {
+        rays += stats.rays;
+        let tile_width = TILE.min(width - x0) as usize;
+        for (row, chunk) in pixels.chunks(tile_width).enumerate() {
+            let start = (y0 as usize + row) * width as usize + x0 as usize;
+            xyz[start..start + tile_width].copy_from_slice(chunk);
+        }
+    }
+    let stats = RenderStats {
+        rays,
+        samples: u64::from(width) * u64::from(height) * u64::from(job.settings.spp),
+        elapsed: start.elapsed(),
+        threads,
+    };
+    Ok((Film::new(width, height, xyz, job.monochromatic_nm), stats))
+}
+
+/// The mean XYZ of every pixel of the tile at (`x0`, `y0`), row-major.
+fn render_tile(scene: &Scene, integrator: &Whitted, job: &Job, x0: u32, y0: u32) -> (Vec<Vec3>, TraceStats) {
+    let (width, height) = (scene.camera.width(), scene.camera.height());
+    let settings = &job.settings;
+    let mut stats = TraceStats::default();
+    let mut pixels = Vec::with_capacity((TILE * TILE) as usize);
+    for y in y0..(y0 + TILE).min(height) {
+        for x in x0..(x0 + TILE).min(width) {
+            let mut sum = [0f64; 3];
+            for sample in 0..settings.spp {
+                let mut rng = PixelRng::new(settings.seed, x, y, sample);
+                let u_lambda = rng.uniform();
+                let wavelengths = match job.monochromatic_nm {
+                    Some(nm) => SampledWavelengths::monochromatic(nm),
+                    None => SampledWavelengths::sample_visible(u_lambda, settings.wavelengths),
+                };
+                let (jx, jy) = (rng.uniform(), rng.uniform());
+                let ray = scene.camera.ray(x as f32 + jx, y as f32 + jy);
+                let radiance = integrator.radiance(&ray, &wavelengths, &mut rng, &mut stats);
+                let xyz = cie::to_xyz(&radiance, &wavelengths);
+                debug_assert!(xyz.is_finite(), "non-finite sample at pixel ({x}, {y}): {xyz}");
+                for (s, v) in sum.iter_mut().zip(xyz.to_array()) {
+                    *s += f64::from(v);
+                }
+            }
+            let n = f64::from(settings.spp);
+            pixels.push(Vec3::new((sum[0] / n) as f32, (sum[1] / n) as f32, (sum[2] / n) as f32));
+        }
+    }
+    (pixels, stats)
+}

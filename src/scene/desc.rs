@@ -1,0 +1,314 @@
+//! The scene file format: serde types that mirror the TOML text one to one, with no validation
+//! beyond types. [`super::build`] turns them into the runtime [`super::Scene`].
+//!
+//! The format is documented for users in `scenes/README.md`. Every table rejects unknown keys.
+//!
+//! ```toml
+//! [camera]
+//! position = [0, 2, -6]
+//! look_at = [0, 0, 100]
+//! fov_y_deg = 60
+//! width = 600
+//! height = 400
+//!
+//! [materials.glass]
+//! type = "dielectric"
+//! ior = { glass = "N-SF11" }
+//!
+//! [[shapes]]
+//! type = "sphere"
+//! center = [2, 0, 3]
+//! radius = 1.5
+//! material = "glass"
+//! ```
+
+use std::collections::BTreeMap;
+use std::fmt;
+
+use serde::de::{self, MapAccess, Visitor};
+use serde::{Deserialize, Deserializer};
+use toml::Spanned;
+
+/// A whole scene file.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneDesc {
+    /// The pinhole camera.
+    pub camera: Spanned<CameraDesc>,
+    /// Render settings (all optional).
+    #[serde(default)]
+    pub render: Option<Spanned<RenderDesc>>,
+    /// Radiance of rays that escape the scene (W·m⁻²·sr⁻¹·nm⁻¹); zero when absent.
+    #[serde(default)]
+    pub background: Option<Spanned<SpectrumDesc>>,
+    /// Named materials, referenced by shapes.
+    #[serde(default)]
+    pub materials: BTreeMap<String, Spanned<MaterialDesc>>,
+    /// The shapes, in order.
+    #[serde(default)]
+    pub shapes: Vec<Spanned<ShapeDesc>>,
+    /// The lights, in order.
+    #[serde(default)]
+    pub lights: Vec<Spanned<LightDesc>>,
+}
+
+/// `[camera]`: a pinhole camera.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CameraDesc {
+    /// Eye position (scene units).
+    pub position: [f32; 3],
+    /// A point the camera looks at.
+    pub look_at: [f32; 3],
+    /// Up direction (need not be orthogonal to the view); +y when absent.
+    #[serde(default = "default_up")]
+    pub up: [f32; 3],
+    /// Vertical field of view in degrees.
+    pub fov_y_deg: f32,
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+}
+
+fn default_up() -> [f32; 3] {
+    [0.0, 1.0, 0.0]
+}
+
+/// `[render]`: sampling settings; every field has a default.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RenderDesc {
+    /// Camera samples per pixel.
+    pub spp: Option<u32>,
+    /// Maximum number of specular bounces (recursion depth).
+    pub max_depth: Option<u32>,
+    /// Wavelengths carried by each camera sample (1..=4).
+    pub wavelengths: Option<u32>,
+    /// Seed of the per-pixel random streams.
+    pub seed: Option<u64>,
+    /// Stratified samples per quad light at each diffuse shading point.
+    pub area_light_samples: Option<u32>,
+    /// Branch weight under which Russian roulette may prune a Whitted branch (0 turns pruning off).
+    pub prune_below: Option<f32>,
+}
+
+/// A material, selected by `type`.
+#[derive(Debug, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum MaterialDesc {
+    /// Lambertian or Oren–Nayar diffuse reflector.
+    Diffuse {
+        /// Albedo ρ (reflectance spectrum in [0, 1]).
+        albedo: SpectrumDesc,
+        /// Oren–Nayar roughness σ in degrees (0 or absent: Lambert).
+        #[serde(default)]
+        roughness_deg: Option<f32>,
+    },
+    /// Perfect specular mirror.
+    Mirror {
+        /// Reflectance spectrum; 1 when absent.
+        #[serde(default)]
+        reflectance: Option<SpectrumDesc>,
+    },
+    /// Smooth dielectric (glass, water...).
+    Dielectric {
+        /// Index of refraction model.
+        ior: IorDesc,
+        /// Absorption coefficient inside, per scene unit (Beer–Lambert); none when absent.
+        #[serde(default)]
+        absorption: Option<SpectrumDesc>,
+    },
+}
+
+/// A shape, selected by `type`.
+#[derive(Debug, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum ShapeDesc {
+    /// A sphere.
+    Sphere {
+        /// Centre.
+        center: [f32; 3],
+        /// Radius (> 0).
+        radius: f32,
+        /// Material name.
+        material: String,
+    },
+    /// An infinite plane.
+    Plane {
+        /// A point on the plane.
+        point: [f32; 3],
+        /// Normal (outside direction), any non-zero length.
+        normal: [f32; 3],
+        /// Material name.
+        material: String,
+    },
+    /// A parallelogram `corner + u·edge1 + v·edge2`.
+    Quad {
+        /// Corner.
+        corner: [f32; 3],
+        /// First edge.
+        edge1: [f32; 3],
+        /// Second edge.
+        edge2: [f32; 3],
+        /// Material name.
+        material: String,
+    },
+    /// A triangle mesh from an OBJ file.
+    Mesh {
+        /// OBJ path, relative to the scene file.
+        file: String,
+        /// Material name.
+        material: String,
+        /// Uniform scale factor (> 0); 1 when absent.
+        #[serde(default)]
+        scale: Option<f32>,
+        /// Rotations about x, then y, then z, in degrees, applied after scaling.
+        #[serde(default)]
+        rotate_deg: Option<[f32; 3]>,
+        /// Translation applied last (where the mesh's local origin goes).
+        #[serde(default)]
+        position: Option<[f32; 3]>,
+    },
+    /// The built-in closed triangular prism.
+    Prism {
+        /// Apex angle in degrees (0 < A < 180).
+        apex_angle_deg: f32,
+        /// Slant length of the two faces meeting at the apex.
+        side_length: f32,
+        /// Extrusion length (along the local z axis).
+        length: f32,
+        /// Material name.
+        material: String,
+        /// Rotations about x, then y, then z, in degrees.
+        #[serde(default)]
+        rotate_deg: Option<[f32; 3]>,
+        /// Where the centroid of the prism goes.
+        #[serde(default)]
+        position: Option<[f32; 3]>,
+    },
+}
+
+/// A light, selected by `type`.
+#[derive(Debug, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum LightDesc {
+    /// An isotropic point light.
+    Point {
+        /// Position.
+        position: [f32; 3],
+        /// Radiant intensity, W·sr⁻¹·nm⁻¹.
+        intensity: SpectrumDesc,
+    },
+    /// A one-sided parallelogram area light, also visible to the camera.
+    Quad {
+        /// Corner.
+        corner: [f32; 3],
+        /// First edge.
+        edge1: [f32; 3],
+        /// Second edge.
+        edge2: [f32; 3],
+        /// Emitted radiance, W·m⁻²·sr⁻¹·nm⁻¹.
+        radiance: SpectrumDesc,
+        /// The side that emits.
+        emit: EmitSide,
+    },
+}
+
+/// The emitting side of a quad light.
+#[derive(Debug, Deserialize, Clone, Copy, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum EmitSide {
+    /// Light leaves along `edge1 × edge2`.
+    Edge1CrossEdge2,
+    /// Light leaves along `edge2 × edge1`.
+    Edge2CrossEdge1,
+}
+
+/// A spectrum in the file: a bare number (constant) or a table (see [`SpectrumFields`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SpectrumDesc(pub SpectrumFields);
+
+/// The table form of a spectrum: exactly one of `value`, `rgb`, `table`, `illuminant`,
+/// `blackbody_k`, and an optional `scale`.
+#[derive(Debug, Clone, PartialEq, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct SpectrumFields {
+    /// Constant value.
+    pub value: Option<f32>,
+    /// Linear sRGB triple.
+    pub rgb: Option<[f32; 3]>,
+    /// (wavelength nm, value) pairs.
+    pub table: Option<Vec<[f32; 2]>>,
+    /// A named illuminant: "D65" or "E".
+    pub illuminant: Option<String>,
+    /// Blackbody temperature in kelvin.
+    pub blackbody_k: Option<f32>,
+    /// Factor applied to the whole spectrum.
+    pub scale: Option<f32>,
+}
+
+/// An index of refraction in the file: a bare number or a table (see [`IorFields`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct IorDesc(pub IorFields);
+
+/// The table form of an index of refraction: exactly one of `value`, `cauchy`, `sellmeier`,
+/// `glass`, `table`.
+#[derive(Debug, Clone, PartialEq, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct IorFields {
+    /// Constant index.
+    pub value: Option<f32>,
+    /// Cauchy coefficients [A, B µm², C µm⁴].
+    pub cauchy: Option<[f32; 3]>,
+    /// Sellmeier three-term coefficients.
+    pub sellmeier: Option<SellmeierDesc>,
+    /// A glass of the catalogue in data/glasses.toml.
+    pub glass: Option<String>,
+    /// (wavelength nm, n) pairs.
+    pub table: Option<Vec<[f32; 2]>>,
+}
+
+/// Sellmeier coefficients.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SellmeierDesc {
+    /// B₁, B₂, B₃.
+    pub b: [f32; 3],
+    /// C₁, C₂, C₃ in µm².
+    pub c_um2: [f32; 3],
+}
+
+/// Implements `Deserialize` for a newtype over a fields table that has a `value` field, so that
+/// a bare number stands for `{ value = number }`.
+macro_rules! number_or_table {
+    ($newtype:ident, $fields:ident, $what:literal) => {
+        impl<'de> Deserialize<'de> for $newtype {
+            fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+                struct NumberOrTable;
+                impl<'de> Visitor<'de> for NumberOrTable {
+                    type Value = $newtype;
+                    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                        f.write_str($what)
+                    }
+                    fn visit_f64<E: de::Error>(self, v: f64) -> Result<Self::Value, E> {
+                        Ok($newtype($fields { value: Some(v as f32), ..Default::default() }))
+                    }
+                    fn visit_i64<E: de::Error>(self, v: i64) -> Result<Self::Value, E> {
+                        self.visit_f64(v as f64)
+                    }
+                    fn visit_u64<E: de::Error>(self, v: u64) -> Result<Self::Value, E> {
+                        self.visit_f64(v as f64)
+                    }
+                    fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<Self::Value, A::Error> {
+                        $fields::deserialize(de::value::MapAccessDeserializer::new(map)).map($newtype)
+                    }
+                }
+                deserializer.deserialize_any(NumberOrTable)
+            }
+        }
+    };
+}
+
+number_or_table!(SpectrumDesc, SpectrumFields, "a number or a spectrum table such as { rgb = [r, g, b] }");
+number_or_table!(IorDesc, IorFields, "a number or an IOR table such as { glass = \"N-BK7\" }");
