@@ -1,0 +1,198 @@
+//! Every malformed scene gets a one-line error naming the file and the line or field, exit code 2,
+//! and no output file. Each case runs the real binary.
+
+use std::path::Path;
+use std::process::Command;
+
+const GOOD: &str = r#"
+background = 0.5
+
+[camera]
+position = [0, 0, -5]
+look_at = [0, 0, 0]
+fov_y_deg = 40
+width = 8
+height = 6
+
+[render]
+spp = 1
+
+[materials.glass]
+type = "dielectric"
+ior = 1.5
+
+[materials.white]
+type = "diffuse"
+albedo = 0.8
+
+[[shapes]]
+type = "sphere"
+center = [0, 0, 0]
+radius = 1
+material = "glass"
+
+[[lights]]
+type = "point"
+position = [0, 5, 0]
+intensity = 10
+"#;
+
+/// Runs `prisma render` on `scene_text`; returns (exit code, stderr, whether an output appeared).
+fn render_text(scene_text: &str, extra: &[&str]) -> (i32, String, bool) {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("scene.toml");
+    std::fs::write(&scene, scene_text).unwrap();
+    render_file(&scene, dir.path(), extra)
+}
+
+fn render_file(scene: &Path, dir: &Path, extra: &[&str]) -> (i32, String, bool) {
+    let out = dir.join("out/image.exr");
+    let output = Command::new(env!("CARGO_BIN_EXE_prisma"))
+        .arg("render")
+        .arg(scene)
+        .arg("-o")
+        .arg(&out)
+        .arg("--quiet")
+        .args(extra)
+        .output()
+        .unwrap();
+    let produced = dir.join("out").exists() && std::fs::read_dir(dir.join("out")).unwrap().count() > 0;
+    (output.status.code().unwrap_or(-1), String::from_utf8_lossy(&output.stderr).into_owned(), produced)
+}
+
+/// Asserts a clean rejection: exit 2, one line, mentioning every fragment, no output file.
+fn assert_rejected(scene_text: &str, fragments: &[&str]) {
+    let (code, stderr, produced) = render_text(scene_text, &[]);
+    assert_eq!(code, 2, "exit code for {fragments:?}; stderr: {stderr}");
+    assert_eq!(stderr.trim_end().lines().count(), 1, "not one line: {stderr}");
+    assert!(stderr.contains("scene.toml"), "file not named: {stderr}");
+    for fragment in fragments {
+        assert!(stderr.contains(fragment), "missing {fragment:?} in: {stderr}");
+    }
+    assert!(!produced, "an output file was written for {fragments:?}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
+
+#[test]
+fn the_good_scene_renders() {
+    let (code, stderr, produced) = render_text(GOOD, &[]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(produced);
+}
+
+#[test]
+fn toml_syntax_error_names_the_line() {
+    assert_rejected(&GOOD.replace("radius = 1\n", "radius = = 1\n"), &["scene.toml:30:"]);
+}
+
+#[test]
+fn unknown_key() {
+    assert_rejected(&GOOD.replace("radius = 1\n", "radius = 1\nradiu = 2\n"), &["radiu"]);
+}
+
+#[test]
+fn missing_field() {
+    assert_rejected(&GOOD.replace("radius = 1\n", ""), &["radius"]);
+}
+
+#[test]
+fn wrong_type() {
+    assert_rejected(&GOOD.replace("width = 8", "width = \"eight\""), &["scene.toml:9:"]);
+}
+
+#[test]
+fn undefined_material() {
+    assert_rejected(&GOOD.replace("material = \"glass\"", "material = \"gold\""), &["shapes[0].material", "gold"]);
+}
+
+#[test]
+fn negative_or_zero_radius() {
+    assert_rejected(&GOOD.replace("radius = 1\n", "radius = -1\n"), &["shapes[0].radius", "> 0"]);
+    assert_rejected(&GOOD.replace("radius = 1\n", "radius = 0\n"), &["shapes[0].radius"]);
+}
+
+#[test]
+fn zero_length_normal_and_edges() {
+    let plane = "[[shapes]]\ntype = \"plane\"\npoint = [0, -1, 0]\nnormal = [0, 0, 0]\nmaterial = \"white\"\n";
+    assert_rejected(&format!("{GOOD}\n{plane}"), &["shapes[1].normal", "non-zero"]);
+    let quad = "[[shapes]]\ntype = \"quad\"\ncorner = [0, 0, 0]\nedge1 = [1, 0, 0]\nedge2 = [2, 0, 0]\nmaterial = \"white\"\n";
+    assert_rejected(&format!("{GOOD}\n{quad}"), &["shapes[1]", "parallel"]);
+    let light = "[[lights]]\ntype = \"quad\"\ncorner = [0, 0, 0]\nedge1 = [0, 0, 0]\nedge2 = [1, 0, 0]\nradiance = 1\nemit = \"edge1_cross_edge2\"\n";
+    assert_rejected(&format!("{GOOD}\n{light}"), &["lights[1].edge1"]);
+}
+
+#[test]
+fn degenerate_camera() {
+    assert_rejected(&GOOD.replace("look_at = [0, 0, 0]", "look_at = [0, 0, -5]"), &["camera", "look_at"]);
+    assert_rejected(&GOOD.replace("fov_y_deg = 40", "fov_y_deg = 40\nup = [0, 0, 1]"), &["camera", "parallel"]);
+}
+
+#[test]
+fn bad_ior() {
+    assert_rejected(&GOOD.replace("ior = 1.5", "ior = 0"), &["materials.glass.ior"]);
+    assert_rejected(&GOOD.replace("ior = 1.5", "ior = -1.2"), &["materials.glass.ior"]);
+    assert_rejected(&GOOD.replace("ior = 1.5", "ior = nan"), &["materials.glass.ior"]);
+    assert_rejected(&GOOD.replace("ior = 1.5", "ior = { glass = \"unobtainium\" }"), &["unobtainium", "N-BK7"]);
+}
+
+#[test]
+fn dispersion_law_with_non_positive_index_in_range() {
+    // n = 1.5 − 0.6/λ² is below zero for λ < 632 nm.
+    assert_rejected(&GOOD.replace("ior = 1.5", "ior = { cauchy = [1.5, -0.6, 0.0] }"), &["materials.glass.ior"]);
+    // A Sellmeier pole at λ² = C = 0.25 µm² (500 nm) lies inside 360–830 nm.
+    assert_rejected(
+        &GOOD.replace("ior = 1.5", "ior = { sellmeier = { b = [1.0, 0.0, 0.0], c_um2 = [0.25, 0.0, 0.0] } }"),
+        &["materials.glass.ior"],
+    );
+}
+
+#[test]
+fn nan_in_a_spectrum_or_a_position() {
+    assert_rejected(&GOOD.replace("albedo = 0.8", "albedo = nan"), &["materials.white.albedo"]);
+    assert_rejected(&GOOD.replace("center = [0, 0, 0]", "center = [0, nan, 0]"), &["shapes[0].center"]);
+    assert_rejected(&GOOD.replace("intensity = 10", "intensity = { rgb = [1, inf, 1] }"), &["lights[0].intensity"]);
+}
+
+#[test]
+fn missing_and_malformed_obj() {
+    let mesh = "[[shapes]]\ntype = \"mesh\"\nfile = \"missing.obj\"\nmaterial = \"white\"\n";
+    assert_rejected(&format!("{GOOD}\n{mesh}"), &["shapes[1].file", "missing.obj"]);
+
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("broken.obj"), "v 0 0 0\nv 1 0 0\nf 1 2 7\n").unwrap();
+    let scene = dir.path().join("scene.toml");
+    std::fs::write(&scene, format!("{GOOD}\n{}", mesh.replace("missing.obj", "broken.obj"))).unwrap();
+    let (code, stderr, produced) = render_file(&scene, dir.path(), &[]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(stderr.contains("broken.obj") && stderr.contains("shapes[1].file"), "{stderr}");
+    assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
+    assert!(!produced);
+}
+
+#[test]
+fn zero_or_absurd_resolution_and_samples() {
+    assert_rejected(&GOOD.replace("width = 8", "width = 0"), &["camera.width"]);
+    assert_rejected(&GOOD.replace("height = 6", "height = 100000"), &["camera.height"]);
+    assert_rejected(&GOOD.replace("spp = 1", "spp = 0"), &["render.spp"]);
+    assert_rejected(&GOOD.replace("spp = 1", "spp = 4000000000"), &["render.spp"]);
+    assert_rejected(&GOOD.replace("spp = 1", "spp = -3"), &["scene.toml:14:"]);
+    assert_rejected(&GOOD.replace("spp = 1", "spp = 1\nwavelengths = 9"), &["render.wavelengths"]);
+}
+
+#[test]
+fn bad_flags_exit_2() {
+    for flags in [&["--spp", "0"][..], &["--width", "0"], &["--wavelength", "200"], &["--threads", "0"]] {
+        let (code, stderr, produced) = render_text(GOOD, flags);
+        assert_eq!(code, 2, "{flags:?}: {stderr}");
+        assert!(!produced, "{flags:?}");
+    }
+}
+
+#[test]
+fn missing_scene_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let (code, stderr, produced) = render_file(&dir.path().join("nope.toml"), dir.path(), &[]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(stderr.contains("nope.toml"), "{stderr}");
+    assert!(!produced);
+}
