@@ -102,7 +102,10 @@ fn wrong_type() {
 
 #[test]
 fn undefined_material() {
-    assert_rejected(&GOOD.replace("material = \"glass\"", "material = \"gold\""), &["shapes[0].material", "gold"]);
+    assert_rejected(
+        &GOOD.replace("material = \"glass\"", "material = \"gold\""),
+        &["shapes[0].material", "gold"],
+    );
 }
 
 #[test]
@@ -113,7 +116,8 @@ fn negative_or_zero_radius() {
 
 #[test]
 fn zero_length_normal_and_edges() {
-    let plane = "[[shapes]]\ntype = \"plane\"\npoint = [0, -1, 0]\nnormal = [0, 0, 0]\nmaterial = \"white\"\n";
+    let plane =
+        "[[shapes]]\ntype = \"plane\"\npoint = [0, -1, 0]\nnormal = [0, 0, 0]\nmaterial = \"white\"\n";
     assert_rejected(&format!("{GOOD}\n{plane}"), &["shapes[1].normal", "non-zero"]);
     let quad = "[[shapes]]\ntype = \"quad\"\ncorner = [0, 0, 0]\nedge1 = [1, 0, 0]\nedge2 = [2, 0, 0]\nmaterial = \"white\"\n";
     assert_rejected(&format!("{GOOD}\n{quad}"), &["shapes[1]", "parallel"]);
@@ -124,7 +128,10 @@ fn zero_length_normal_and_edges() {
 #[test]
 fn degenerate_camera() {
     assert_rejected(&GOOD.replace("look_at = [0, 0, 0]", "look_at = [0, 0, -5]"), &["camera", "look_at"]);
-    assert_rejected(&GOOD.replace("fov_y_deg = 40", "fov_y_deg = 40\nup = [0, 0, 1]"), &["camera", "parallel"]);
+    assert_rejected(
+        &GOOD.replace("fov_y_deg = 40", "fov_y_deg = 40\nup = [0, 0, 1]"),
+        &["camera", "parallel"],
+    );
 }
 
 #[test]
@@ -132,13 +139,19 @@ fn bad_ior() {
     assert_rejected(&GOOD.replace("ior = 1.5", "ior = 0"), &["materials.glass.ior"]);
     assert_rejected(&GOOD.replace("ior = 1.5", "ior = -1.2"), &["materials.glass.ior"]);
     assert_rejected(&GOOD.replace("ior = 1.5", "ior = nan"), &["materials.glass.ior"]);
-    assert_rejected(&GOOD.replace("ior = 1.5", "ior = { glass = \"unobtainium\" }"), &["unobtainium", "N-BK7"]);
+    assert_rejected(
+        &GOOD.replace("ior = 1.5", "ior = { glass = \"unobtainium\" }"),
+        &["unobtainium", "N-BK7"],
+    );
 }
 
 #[test]
 fn dispersion_law_with_non_positive_index_in_range() {
     // n = 1.5 − 0.6/λ² is below zero for λ < 632 nm.
-    assert_rejected(&GOOD.replace("ior = 1.5", "ior = { cauchy = [1.5, -0.6, 0.0] }"), &["materials.glass.ior"]);
+    assert_rejected(
+        &GOOD.replace("ior = 1.5", "ior = { cauchy = [1.5, -0.6, 0.0] }"),
+        &["materials.glass.ior"],
+    );
     // A Sellmeier pole at λ² = C = 0.25 µm² (500 nm) lies inside 360–830 nm.
     assert_rejected(
         &GOOD.replace("ior = 1.5", "ior = { sellmeier = { b = [1.0, 0.0, 0.0], c_um2 = [0.25, 0.0, 0.0] } }"),
@@ -150,7 +163,10 @@ fn dispersion_law_with_non_positive_index_in_range() {
 fn nan_in_a_spectrum_or_a_position() {
     assert_rejected(&GOOD.replace("albedo = 0.8", "albedo = nan"), &["materials.white.albedo"]);
     assert_rejected(&GOOD.replace("center = [0, 0, 0]", "center = [0, nan, 0]"), &["shapes[0].center"]);
-    assert_rejected(&GOOD.replace("intensity = 10", "intensity = { rgb = [1, inf, 1] }"), &["lights[0].intensity"]);
+    assert_rejected(
+        &GOOD.replace("intensity = 10", "intensity = { rgb = [1, inf, 1] }"),
+        &["lights[0].intensity"],
+    );
 }
 
 #[test]

@@ -15,11 +15,14 @@ fn small_scene() -> prisma::scene::Scene {
 #[test]
 fn one_and_two_threads_give_identical_images() {
     let scene = small_scene();
-    let job = |threads| Job { settings: scene.settings.clone(), threads, monochromatic_nm: None, progress: false };
+    let job =
+        |threads| Job { settings: scene.settings.clone(), threads, monochromatic_nm: None, progress: false };
     let (one, _) = render(&scene, &job(1)).unwrap();
     let (two, _) = render(&scene, &job(2)).unwrap();
     let (three, _) = render(&scene, &job(3)).unwrap();
-    let bits = |f: &prisma::film::Film| f.xyz().iter().flat_map(|p| p.to_array().map(f32::to_bits)).collect::<Vec<_>>();
+    let bits = |f: &prisma::film::Film| {
+        f.xyz().iter().flat_map(|p| p.to_array().map(f32::to_bits)).collect::<Vec<_>>()
+    };
     assert_eq!(bits(&one), bits(&two));
     assert_eq!(bits(&one), bits(&three));
 }
@@ -28,9 +31,14 @@ fn one_and_two_threads_give_identical_images() {
 fn different_seeds_give_different_images() {
     let scene = small_scene();
     let mut settings = scene.settings.clone();
-    let (a, _) = render(&scene, &Job { settings: settings.clone(), threads: 2, monochromatic_nm: None, progress: false }).unwrap();
+    let (a, _) = render(
+        &scene,
+        &Job { settings: settings.clone(), threads: 2, monochromatic_nm: None, progress: false },
+    )
+    .unwrap();
     settings.seed += 1;
-    let (b, _) = render(&scene, &Job { settings, threads: 2, monochromatic_nm: None, progress: false }).unwrap();
+    let (b, _) =
+        render(&scene, &Job { settings, threads: 2, monochromatic_nm: None, progress: false }).unwrap();
     assert_ne!(a.xyz(), b.xyz());
 }
 

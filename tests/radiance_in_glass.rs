@@ -38,7 +38,12 @@ material = "glass"
 "#
     );
     let scene = parse(&text, Path::new("inside.toml")).unwrap();
-    let job = Job { settings: scene.settings.clone(), threads: 2, monochromatic_nm: Some(wavelength_nm), progress: false };
+    let job = Job {
+        settings: scene.settings.clone(),
+        threads: 2,
+        monochromatic_nm: Some(wavelength_nm),
+        progress: false,
+    };
     let (film, _) = render(&scene, &job).unwrap();
     film.xyz().iter().map(|p| f64::from(p.y)).sum::<f64>() / film.xyz().len() as f64
 }

@@ -88,7 +88,6 @@ fn perfect_mirror_sphere_is_invisible() {
 /// thresholds above.
 #[test]
 fn absorbing_glass_is_visible() {
-    let (mean, mean_ref, _) =
-        mean_and_max_difference("type = \"dielectric\"\nior = 1.5\nabsorption = 0.5");
+    let (mean, mean_ref, _) = mean_and_max_difference("type = \"dielectric\"\nior = 1.5\nabsorption = 0.5");
     assert!(mean_ref - mean > 1e-2, "{mean} vs {mean_ref}");
 }

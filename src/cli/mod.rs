@@ -2,6 +2,7 @@
 //! exit codes.
 
 mod render;
+mod spectra;
 
 use std::path::PathBuf;
 
@@ -19,6 +20,8 @@ pub struct Cli {
 enum Command {
     /// Render a scene file to an OpenEXR image and a PNG preview.
     Render(render::RenderArgs),
+    /// Tabulate every spectrum of a scene as prisma evaluates it (JSON, one value per nm).
+    Spectra(spectra::SpectraArgs),
 }
 
 /// A failed command: bad input (exit code 2) or a failure while running (exit code 1).
@@ -49,6 +52,7 @@ impl CliError {
 pub fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
         Some(Command::Render(args)) => render::run(&args),
+        Some(Command::Spectra(args)) => spectra::run(&args),
         None => render::run(&render::RenderArgs::default_scene(default_scene())),
     }
 }

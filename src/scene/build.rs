@@ -91,9 +91,11 @@ impl Builder<'_> {
 
         let mut materials = Vec::with_capacity(desc.materials.len() + 1);
         let mut material_ids = BTreeMap::new();
+        let mut material_names = Vec::with_capacity(desc.materials.len() + 1);
         for (name, material) in &desc.materials {
             material_ids.insert(name.as_str(), materials.len() as u32);
             materials.push(self.material(name, material)?);
+            material_names.push(name.clone());
         }
 
         let mut shapes = Vec::new();
@@ -110,6 +112,7 @@ impl Builder<'_> {
             if let Light::Quad(quad) = &built {
                 let material = *black.get_or_insert_with(|| {
                     materials.push(Material::Black);
+                    material_names.push("(light)".to_owned());
                     materials.len() as u32 - 1
                 });
                 shapes.push(Shape::Quad(quad.quad));
@@ -127,6 +130,7 @@ impl Builder<'_> {
             geometry: Geometry::build(shapes, meshes),
             surfaces,
             materials,
+            material_names,
             lights,
             background,
         })

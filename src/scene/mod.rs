@@ -61,6 +61,9 @@ pub struct Scene {
     pub surfaces: Vec<Surface>,
     /// Materials.
     pub materials: Vec<Material>,
+    /// The file's name of each material (same index as `materials`; `"(light)"` for the black
+    /// surface of quad lights).
+    pub material_names: Vec<String>,
     /// Lights.
     pub lights: Vec<Light>,
     /// Radiance of escaping rays, W·m⁻²·sr⁻¹·nm⁻¹.
