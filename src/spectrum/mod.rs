@@ -9,6 +9,7 @@ pub mod color;
 pub mod curve;
 pub mod rgb_upsample;
 pub mod sampled;
+mod tables;
 pub mod wavelengths;
 
 pub use curve::{Spectrum, SpectrumError};

@@ -1,0 +1,167 @@
+//! The embedded CIE tables, parsed once on first use.
+//!
+//! - `data/cie1931_2deg.csv`: CIE 1931 2° colour-matching functions, ISO 11664-1:2007 /
+//!   CIE S 014-1:2006, 360–830 nm at 1 nm.
+//! - `data/cie_d65.csv`: CIE standard illuminant D65, ISO 11664-2:2007 / CIE S 014-2:2006,
+//!   360–830 nm at 1 nm (relative, 100 at 560 nm).
+//!
+//! Each file's header names the package and version its numbers were extracted from. Both tables
+//! share one wavelength grid, [`GRID_LEN`] points from [`LAMBDA_MIN_NM`] in steps of 1 nm, which
+//! the parser checks. A malformed embedded table is a programming error, so parsing panics with
+//! a message naming the file and line; the tests below parse both tables.
+
+use std::sync::OnceLock;
+
+use glam::Vec3;
+
+use super::{LAMBDA_MAX_NM, LAMBDA_MIN_NM};
+
+/// Number of 1 nm grid points from 360 to 830 nm inclusive.
+pub(crate) const GRID_LEN: usize = 471;
+
+/// Wavelength of grid point `i`, in nm.
+#[inline]
+pub(crate) fn grid_lambda_nm(i: usize) -> f32 {
+    LAMBDA_MIN_NM + i as f32
+}
+
+/// Trapezoid-rule weight of grid point `i`, in nm: the exact integral of a piecewise-linear
+/// function through the grid values is `Σ weight(i)·value(i)`.
+#[inline]
+pub(crate) fn trapezoid_weight_nm(i: usize) -> f64 {
+    if i == 0 || i == GRID_LEN - 1 {
+        0.5
+    } else {
+        1.0
+    }
+}
+
+/// Where `lambda_nm` falls on the grid, for linear interpolation of a per-grid-point quantity:
+/// the two neighbouring grid indices and the weight of the upper one; `None` outside 360–830 nm
+/// (and for NaN).
+#[inline]
+pub(crate) fn grid_position(lambda_nm: f32) -> Option<(usize, usize, f32)> {
+    if !(LAMBDA_MIN_NM..=LAMBDA_MAX_NM).contains(&lambda_nm) {
+        return None;
+    }
+    let offset_nm = lambda_nm - LAMBDA_MIN_NM;
+    // `min` keeps λ = 830 nm (and any rounding just below it) inside the last interval.
+    let lower = (offset_nm as usize).min(GRID_LEN - 2);
+    let t = (offset_nm - lower as f32).clamp(0.0, 1.0);
+    Some((lower, lower + 1, t))
+}
+
+/// The CIE 1931 2° colour-matching functions (x̄, ȳ, z̄) at each grid point.
+pub(crate) fn cmf_table() -> &'static [Vec3] {
+    static TABLE: OnceLock<Vec<Vec3>> = OnceLock::new();
+    TABLE.get_or_init(|| {
+        parse_grid::<3>(
+            "data/cie1931_2deg.csv",
+            include_str!("../../data/cie1931_2deg.csv"),
+        )
+        .into_iter()
+        .map(Vec3::from_array)
+        .collect()
+    })
+}
+
+/// The relative spectral power of CIE illuminant D65 at each grid point (100 at 560 nm).
+pub(crate) fn d65_table() -> &'static [f32] {
+    static TABLE: OnceLock<Vec<f32>> = OnceLock::new();
+    TABLE.get_or_init(|| {
+        parse_grid::<1>("data/cie_d65.csv", include_str!("../../data/cie_d65.csv"))
+            .into_iter()
+            .map(|[power]| power)
+            .collect()
+    })
+}
+
+/// Parses a CSV table whose first column is the wavelength in nm on the shared grid, followed by
+/// `C` value columns. Lines starting with `#` are comments; the first other line is the column
+/// header. Panics (naming `file` and the line) on anything else, since the tables are embedded.
+fn parse_grid<const C: usize>(file: &str, text: &str) -> Vec<[f32; C]> {
+    let mut rows = Vec::with_capacity(GRID_LEN);
+    let mut header_seen = false;
+    for (line_index, line) in text.lines().enumerate() {
+        let line_no = line_index + 1;
+        let line = line.trim();
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        if !header_seen {
+            header_seen = true;
+            continue;
+        }
+        let mut fields = line.split(',').map(|field| {
+            field.trim().parse::<f32>().unwrap_or_else(|err| {
+                panic!("{file}:{line_no}: field {field:?} is not a number ({err})")
+            })
+        });
+        let lambda_nm = fields
+            .next()
+            .unwrap_or_else(|| panic!("{file}:{line_no}: empty row"));
+        let expected_nm = grid_lambda_nm(rows.len());
+        assert!(
+            lambda_nm == expected_nm,
+            "{file}:{line_no}: wavelength {lambda_nm} nm, expected {expected_nm} nm (1 nm grid from 360 nm)"
+        );
+        let mut values = [0.0; C];
+        for (column, value) in values.iter_mut().enumerate() {
+            *value = fields
+                .next()
+                .unwrap_or_else(|| panic!("{file}:{line_no}: missing value column {}", column + 1));
+            assert!(
+                value.is_finite(),
+                "{file}:{line_no}: non-finite value {value}"
+            );
+        }
+        assert!(
+            fields.next().is_none(),
+            "{file}:{line_no}: more than {} value columns",
+            C
+        );
+        rows.push(values);
+    }
+    assert!(
+        rows.len() == GRID_LEN,
+        "{file}: {} rows, expected {GRID_LEN} (360–830 nm at 1 nm)",
+        rows.len()
+    );
+    rows
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Both embedded tables parse onto the 471-point grid, and spot values equal the published
+    /// ones: ȳ(555 nm) = 1 (the CMFs are normalised there), x̄(600 nm) = 1.0622 and
+    /// z̄(445 nm) = 1.7826 (CIE S 014-1 table); D65(560 nm) = 100 (its normalisation) and
+    /// D65(830 nm) = 60.3125 (CIE S 014-2 table).
+    #[test]
+    fn embedded_tables_parse_and_match_published_values() {
+        let cmf = cmf_table();
+        assert_eq!(cmf.len(), GRID_LEN);
+        assert_eq!(cmf[555 - 360].y, 1.0);
+        assert!((cmf[600 - 360].x - 1.0622).abs() < 1e-4);
+        assert!((cmf[445 - 360].z - 1.78260).abs() < 1e-4);
+        let d65 = d65_table();
+        assert_eq!(d65.len(), GRID_LEN);
+        assert_eq!(d65[560 - 360], 100.0);
+        assert!((d65[GRID_LEN - 1] - 60.3125).abs() < 1e-4);
+    }
+
+    /// The trapezoid weights integrate a constant 1 over 360–830 nm to the width, 470 nm.
+    #[test]
+    fn trapezoid_weights_integrate_the_range_width() {
+        let width_nm: f64 = (0..GRID_LEN).map(trapezoid_weight_nm).sum();
+        assert_eq!(width_nm, 470.0);
+    }
+
+    /// A malformed table is reported with its file and line, not silently accepted.
+    #[test]
+    #[should_panic(expected = "bad.csv:3: wavelength 362 nm, expected 361 nm")]
+    fn parse_grid_names_the_offending_line() {
+        parse_grid::<1>("bad.csv", "lambda_nm,value\n360,1\n362,2\n");
+    }
+}
