@@ -24,9 +24,11 @@
 //! App. A.2), which gives r = e^{iδ} with Hecht's phase shifts tan(δs/2) = √(sin²θi − eta_it²) /
 //! cos θi and tan(δp/2) = √(sin²θi − eta_it²) / (eta_it² cos θi), both positive.
 //!
-//! Numerics: cos² θt = 1 − (1 − cos² θi) eta_ti² is evaluated with fused multiply-adds, which
-//! round once; near the critical angle cos θt = √(cos² θt) magnifies any rounding of cos² θt,
-//! and the fused form both loses least there and rounds like Mitsuba's scalar variants.
+//! Numerics: near the critical angle cos θt = √(cos² θt) magnifies any rounding of
+//! cos² θt = 1 − (1 − cos² θi) eta_ti². [`fresnel_dielectric`] evaluates it with a fused
+//! multiply-add, which rounds once, like Mitsuba's `fresnel`; [`fresnel_dielectric_amplitudes`]
+//! rounds like Mitsuba's `fresnel_polarized`, so that each can be validated against its
+//! counterpart row by row (`tests/fresnel_fixtures.rs`), critical angles included.
 
 use num_complex::Complex32;
 
@@ -67,7 +69,7 @@ impl DielectricFresnel {
 /// [`fresnel_dielectric_amplitudes`] for the complex amplitudes. An index-matched interface
 /// (`eta` = 1) reflects nothing at every angle, grazing included.
 pub fn fresnel_dielectric(cos_theta_i: f32, eta: f32) -> DielectricFresnel {
-    let snell = Snell::new(cos_theta_i, eta);
+    let snell = Snell::new(cos_theta_i, eta, Rounding::Fused);
     if eta == 1.0 {
         return DielectricFresnel {
             r_s: 0.0,
@@ -151,8 +153,14 @@ pub struct DielectricAmplitudes {
 /// of relative index `eta` (n_interior / n_exterior, > 0) at `cos_theta_i` in [-1, 1]; the
 /// values of Mitsuba 3's `fresnel_polarized` plus the transmission side. Never NaN for finite
 /// inputs. `eta` = 1 gives r = 0, t = 1, T = 1.
+///
+/// Its float32 rounding of cos² θt is that of Mitsuba's `fresnel_polarized`, where
+/// [`fresnel_dielectric`] follows Mitsuba's `fresnel`; the two Mitsuba functions (and so these
+/// two) agree to ~1e-7 except within a few ulps of cos θt = 0 (the critical angle, or eta ≈ 1
+/// at grazing incidence), where cos θt = √(cos² θt) turns one rounding into errors up to ~1e-3
+/// and no float32 evaluation is better than another.
 pub fn fresnel_dielectric_amplitudes(cos_theta_i: f32, eta: f32) -> DielectricAmplitudes {
-    let snell = Snell::new(cos_theta_i, eta);
+    let snell = Snell::new(cos_theta_i, eta, Rounding::ComplexIndex);
     let (cos_i, eta_it) = (snell.cos_theta_i_abs, snell.eta_it);
     let zero = Complex32::new(0.0, 0.0);
     let one = Complex32::new(1.0, 0.0);
@@ -231,8 +239,19 @@ struct Snell {
     eta_ti: f32,
 }
 
+/// How [`Snell`] rounds; the two agree except within a few ulps of where cos θt → 0.
+#[derive(Clone, Copy)]
+enum Rounding {
+    /// eta_ti = 1/eta, cos² θt = fma(−sin² θi, eta_ti², 1): one rounding, as Mitsuba's
+    /// `fresnel` (its scalar float32 build fuses the multiply-add).
+    Fused,
+    /// eta_ti = eta · (1/eta²), cos² θt = 1 − eta_ti² · sin² θi in two roundings, as Mitsuba's
+    /// complex-index `fresnel_polarized` computes them (its complex reciprocal is z̄/|z|²).
+    ComplexIndex,
+}
+
 impl Snell {
-    fn new(cos_theta_i: f32, eta: f32) -> Self {
+    fn new(cos_theta_i: f32, eta: f32, rounding: Rounding) -> Self {
         debug_assert!(
             eta.is_finite() && eta > 0.0,
             "relative index {eta} must be finite and > 0"
@@ -243,17 +262,24 @@ impl Snell {
             "cos θi = {cos_theta_i} outside [-1, 1]"
         );
         let from_exterior = cos_theta_i >= 0.0;
-        let rcp_eta = 1.0 / eta;
+        let rcp_eta = match rounding {
+            Rounding::Fused => 1.0 / eta,
+            Rounding::ComplexIndex => eta * (1.0 / (eta * eta)),
+        };
         let (eta_it, eta_ti) = if from_exterior {
             (eta, rcp_eta)
         } else {
             (rcp_eta, eta)
         };
         let sin_theta_i_sqr = (-cos_theta_i).mul_add(cos_theta_i, 1.0);
+        let cos_theta_t_sqr = match rounding {
+            Rounding::Fused => (-sin_theta_i_sqr).mul_add(eta_ti * eta_ti, 1.0),
+            Rounding::ComplexIndex => 1.0 - eta_ti * eta_ti * sin_theta_i_sqr,
+        };
         Self {
             from_exterior,
             cos_theta_i_abs: cos_theta_i.abs(),
-            cos_theta_t_sqr: (-sin_theta_i_sqr).mul_add(eta_ti * eta_ti, 1.0),
+            cos_theta_t_sqr,
             eta_it,
             eta_ti,
         }
@@ -461,8 +487,6 @@ mod tests {
                     (a.reflectance_p + a.transmittance_p - 1.0).abs() < 2e-6,
                     "{context}"
                 );
-                let f = fresnel_dielectric(cos_theta_i, eta);
-                assert!((f.reflectance - a.reflectance).abs() < 2e-6, "{context}");
             }
         }
     }
@@ -527,7 +551,11 @@ mod tests {
                 let a = fresnel_dielectric_amplitudes(cos_theta_i, eta);
                 let from_exterior = cos_theta_i >= 0.0;
                 let expected_eta_it = if from_exterior { eta } else { 1.0 / eta };
-                assert_eq!(a.eta_it, expected_eta_it);
+                // Within an ulp: the amplitudes form its reciprocal as eta / eta².
+                assert!(
+                    (a.eta_it - expected_eta_it).abs() <= 2e-7 * expected_eta_it,
+                    "{a:?}"
+                );
                 assert!((a.eta_it * a.eta_ti - 1.0).abs() < 1e-6);
                 if a.transmittance > 0.0 {
                     let sin_i = (1.0 - cos_theta_i as f64 * cos_theta_i as f64)
@@ -604,23 +632,39 @@ mod tests {
     }
 
     #[test]
-    fn real_and_complex_forms_agree_outside_total_internal_reflection() {
+    fn real_and_complex_forms_agree_where_well_conditioned() {
+        // The two functions round cos² θt differently (as Mitsuba's fresnel and
+        // fresnel_polarized do), by δ ≲ 4e-7 (a few float32 roundings of terms ≤ 1). That moves
+        // cos θt by δ/(2|cos θt|), and r by |∂r/∂cos θt| ≤ 1/(2|cos θt|) times that (the
+        // maximum over cos θi of 2 eta cos θi/(cos θi + eta cos θt)²): with |cos θt| > 0.1, by
+        // at most 25 δ ≲ 1e-5. Under total internal reflection both give R = 1. Only the
+        // points within rounding of cos θt = 0 are left out.
+        let mut compared = 0;
         for eta in ETAS {
             for cos_theta_i in cos_grid() {
                 let f = fresnel_dielectric(cos_theta_i, eta);
                 let a = fresnel_dielectric_amplitudes(cos_theta_i, eta);
-                if f.cos_theta_t != 0.0 {
+                let context = format!("eta {eta}, cos θi {cos_theta_i}: {f:?} {a:?}");
+                if f.cos_theta_t.abs() > 0.1 {
+                    compared += 1;
+                    assert!((f.cos_theta_t - a.cos_theta_t).abs() < 2e-6, "{context}");
+                    assert!((f.reflectance - a.reflectance).abs() < 1e-5, "{context}");
                     assert!(
-                        (f.r_s - a.r_s.re).abs() < 1e-6 && a.r_s.im == 0.0,
-                        "{f:?} {a:?}"
+                        (f.r_s - a.r_s.re).abs() < 1e-5 && a.r_s.im == 0.0,
+                        "{context}"
                     );
                     assert!(
-                        (f.r_p - a.r_p.re).abs() < 1e-6 && a.r_p.im == 0.0,
-                        "{f:?} {a:?}"
+                        (f.r_p - a.r_p.re).abs() < 1e-5 && a.r_p.im == 0.0,
+                        "{context}"
                     );
+                } else if f.cos_theta_t == 0.0 && a.cos_theta_t == 0.0 && eta != 1.0 {
+                    compared += 1;
+                    assert!((a.reflectance - 1.0).abs() < 1e-6, "{context}");
                 }
-                assert_eq!(f.cos_theta_t, a.cos_theta_t);
+                assert!((f.eta_it - a.eta_it).abs() <= 2e-7 * f.eta_it, "{context}");
             }
         }
+        // Most of the 9 × 455 points.
+        assert!(compared > 3500, "{compared}");
     }
 }
