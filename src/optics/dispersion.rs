@@ -40,7 +40,8 @@ pub const TABULATION_STEP_NM: f64 = 1.0;
 /// A dispersion formula as published, evaluated in f64 with λ in µm.
 #[derive(Clone, Debug, PartialEq)]
 pub enum DispersionFormula {
-    /// n² = 1 + Σ Bᵢ λ² / (λ² − Cᵢ), any number of terms (Cᵢ in µm²).
+    /// n² = 1 + Σ Bᵢ λ² / (λ² − Cᵢ), any number of terms (Cᵢ in µm²); `b` and `c_um2` have
+    /// the same length.
     Sellmeier {
         /// Bᵢ (dimensionless).
         b: Vec<f64>,
@@ -48,7 +49,7 @@ pub enum DispersionFormula {
         c_um2: Vec<f64>,
     },
     /// n² = A + Σ Dᵢ λ^pᵢ, the polynomial form of e.g. Beadie et al. 2015 for PMMA (Dᵢ in
-    /// µm^−pᵢ).
+    /// µm^−pᵢ); `coefficients` and `exponents` have the same length.
     PowerSeries {
         /// A (dimensionless).
         a: f64,

@@ -6,7 +6,8 @@
 //! are directly comparable): `eta` is the relative index n_interior / n_exterior, `cos_theta_i`
 //! is measured against the normal on the exterior side, and a negative `cos_theta_i` means light
 //! arriving from the interior. `eta_it` = n_t / n_i is the index ratio seen by the incident ray
-//! and `eta_ti` = 1 / `eta_it`.
+//! and `eta_ti` = 1 / `eta_it`. `cos_theta_i` = −0 counts as the exterior, for `cos_theta_t`'s
+//! sign too (Mitsuba signs its `cos_theta_t` by the sign bit there, as if from the interior).
 //!
 //! Sign convention of the amplitudes (Hecht §4.6, the "Verdet convention" Mitsuba also uses):
 //! with θi, θt the unsigned angles of incidence and transmission,

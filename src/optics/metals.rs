@@ -1,8 +1,8 @@
 //! Measured complex refractive indices n + ik of metals, tabulated in `data/metals/*.csv`:
 //! silver, gold and copper from Johnson & Christy, Phys. Rev. B 6, 4370 (1972); aluminium from
 //! Rakić, Appl. Opt. 34, 4755 (1995). Each file names its source in its `#` header; n and k are
-//! interpolated linearly in wavelength (nm), constant beyond the table's ends (290–1000 nm,
-//! wider than the rendered 360–830 nm).
+//! interpolated linearly in wavelength (nm), constant beyond the table's ends (about
+//! 290–1000 nm, wider than the rendered 360–830 nm).
 //!
 //! Feed [`MetalEntry::eta`] (divided by the exterior index when that is not vacuum) to
 //! [`crate::optics::conductor::fresnel_conductor`].
