@@ -34,22 +34,12 @@ const TOLERANCE: f32 = 1e-5;
 
 /// The rows of a fixture whose column header is `columns`.
 fn read_fixture(name: &str, columns: &str) -> Vec<Vec<f32>> {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/fixtures")
-        .join(name);
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures").join(name);
     let text = std::fs::read_to_string(&path).unwrap_or_else(|err| {
-        panic!(
-            "{}: {err}; regenerate it with validation/mitsuba/fresnel_fixtures.py",
-            path.display()
-        )
+        panic!("{}: {err}; regenerate it with validation/mitsuba/fresnel_fixtures.py", path.display())
     });
-    let mut lines = text
-        .lines()
-        .enumerate()
-        .filter(|(_, line)| !line.starts_with('#'));
-    let (_, header) = lines
-        .next()
-        .unwrap_or_else(|| panic!("{name}: no column header"));
+    let mut lines = text.lines().enumerate().filter(|(_, line)| !line.starts_with('#'));
+    let (_, header) = lines.next().unwrap_or_else(|| panic!("{name}: no column header"));
     assert_eq!(header, columns, "{name}: unexpected columns");
     let width = columns.split(',').count();
     lines
@@ -57,9 +47,7 @@ fn read_fixture(name: &str, columns: &str) -> Vec<Vec<f32>> {
             let row: Vec<f32> = line
                 .split(',')
                 .map(|field| {
-                    field
-                        .parse()
-                        .unwrap_or_else(|err| panic!("{name}:{}: {err} in {line:?}", index + 1))
+                    field.parse().unwrap_or_else(|err| panic!("{name}:{}: {err} in {line:?}", index + 1))
                 })
                 .collect();
             assert_eq!(row.len(), width, "{name}:{}: {line:?}", index + 1);
@@ -88,9 +76,7 @@ impl Comparison {
         let difference = (prisma - mitsuba).abs();
         // NaN in either makes `difference` NaN, which must fail too.
         if difference.is_nan() || difference > TOLERANCE {
-            self.failures.push(format!(
-                "{quantity}: prisma {prisma} vs Mitsuba {mitsuba} at {context}"
-            ));
+            self.failures.push(format!("{quantity}: prisma {prisma} vs Mitsuba {mitsuba} at {context}"));
         }
         match self.worst.iter_mut().find(|w| w.quantity == quantity) {
             Some(worst) if difference.is_nan() || difference > worst.difference => {
@@ -98,46 +84,29 @@ impl Comparison {
                 worst.context = context.to_owned();
             }
             Some(_) => {}
-            None => self.worst.push(Worst {
-                quantity,
-                difference,
-                context: context.to_owned(),
-            }),
+            None => self.worst.push(Worst { quantity, difference, context: context.to_owned() }),
         }
     }
 
     fn finish(self, fixture: &str) {
-        println!(
-            "{fixture}: {} rows compared, tolerance {TOLERANCE:e}",
-            self.rows
-        );
+        println!("{fixture}: {} rows compared, tolerance {TOLERANCE:e}", self.rows);
         for worst in &self.worst {
-            println!(
-                "  max |Δ{}| = {:.3e} at {}",
-                worst.quantity, worst.difference, worst.context
-            );
+            println!("  max |Δ{}| = {:.3e} at {}", worst.quantity, worst.difference, worst.context);
         }
         assert!(self.rows > 0, "{fixture}: no rows");
         assert!(
             self.failures.is_empty(),
             "{fixture}: {} differences beyond {TOLERANCE:e}, first ones:\n{}",
             self.failures.len(),
-            self.failures
-                .iter()
-                .take(20)
-                .cloned()
-                .collect::<Vec<_>>()
-                .join("\n")
+            self.failures.iter().take(20).cloned().collect::<Vec<_>>().join("\n")
         );
     }
 }
 
 #[test]
 fn dielectric_reflectance_matches_mitsuba() {
-    let rows = read_fixture(
-        "fresnel_dielectric.csv",
-        "cos_theta_i,eta,reflectance,cos_theta_t,eta_it,eta_ti",
-    );
+    let rows =
+        read_fixture("fresnel_dielectric.csv", "cos_theta_i,eta,reflectance,cos_theta_t,eta_it,eta_ti");
     let mut comparison = Comparison::default();
     for row in &rows {
         let &[cos_theta_i, eta, reflectance, cos_theta_t, eta_it, eta_ti] = row.as_slice() else {
@@ -166,8 +135,7 @@ fn polarized_amplitudes_match_mitsuba() {
     let mut total_internal_reflections = 0;
     let mut real_summaries = 0;
     for row in &rows {
-        let &[cos_theta_i, eta, a_s_re, a_s_im, a_p_re, a_p_im, cos_theta_t, eta_it, eta_ti] =
-            row.as_slice()
+        let &[cos_theta_i, eta, a_s_re, a_s_im, a_p_re, a_p_im, cos_theta_t, eta_it, eta_ti] = row.as_slice()
         else {
             unreachable!("read_fixture checks the row width")
         };
@@ -206,23 +174,14 @@ fn polarized_amplitudes_match_mitsuba() {
         }
         comparison.rows += 1;
     }
-    assert!(
-        total_internal_reflections > 100,
-        "the fixture must exercise TIR"
-    );
-    assert!(
-        real_summaries > rows.len() * 3 / 4,
-        "{real_summaries} real summaries compared"
-    );
+    assert!(total_internal_reflections > 100, "the fixture must exercise TIR");
+    assert!(real_summaries > rows.len() * 3 / 4, "{real_summaries} real summaries compared");
     comparison.finish("fresnel_polarized.csv");
 }
 
 #[test]
 fn conductor_reflectance_matches_mitsuba() {
-    let rows = read_fixture(
-        "fresnel_conductor.csv",
-        "cos_theta_i,eta_re,eta_im,reflectance",
-    );
+    let rows = read_fixture("fresnel_conductor.csv", "cos_theta_i,eta_re,eta_im,reflectance");
     let mut comparison = Comparison::default();
     for row in &rows {
         let &[cos_theta_i, eta_re, eta_im, reflectance] = row.as_slice() else {

@@ -1,6 +1,9 @@
 //! Subcommands of the `prisma` binary, one file each, and the error type that maps failures to
 //! exit codes.
 
+mod fresnel;
+mod glass;
+mod plot;
 mod render;
 mod spectra;
 
@@ -22,6 +25,10 @@ enum Command {
     Render(render::RenderArgs),
     /// Tabulate every spectrum of a scene as prisma evaluates it (JSON, one value per nm).
     Spectra(spectra::SpectraArgs),
+    /// Fresnel reflectance curves of an interface (CSV, plots), or a Mitsuba fixture against prisma.
+    Fresnel(fresnel::FresnelArgs),
+    /// The glass catalogue: n_d, V_d and sources, n(λ) tables and plots.
+    Glass(glass::GlassArgs),
 }
 
 /// A failed command: bad input (exit code 2) or a failure while running (exit code 1).
@@ -53,6 +60,8 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
         Some(Command::Render(args)) => render::run(&args),
         Some(Command::Spectra(args)) => spectra::run(&args),
+        Some(Command::Fresnel(args)) => fresnel::run(&args),
+        Some(Command::Glass(args)) => glass::run(&args),
         None => render::run(&render::RenderArgs::default_scene(default_scene())),
     }
 }

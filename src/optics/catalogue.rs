@@ -81,9 +81,7 @@ pub fn glasses() -> &'static [GlassEntry] {
 /// Looks up a named glass, ignoring case, spaces, `-` and `_`.
 pub fn glass(name: &str) -> Option<&'static GlassEntry> {
     let key = lookup_key(name);
-    glasses()
-        .iter()
-        .find(|glass| lookup_key(&glass.name) == key)
+    glasses().iter().find(|glass| lookup_key(&glass.name) == key)
 }
 
 /// Looks up a named glass (case-insensitive, e.g. `"N-SF11"`) in the built-in catalogue.
@@ -97,10 +95,7 @@ pub fn glass_names() -> Vec<&'static str> {
 }
 
 fn lookup_key(name: &str) -> String {
-    name.chars()
-        .filter(|c| !matches!(c, ' ' | '-' | '_'))
-        .flat_map(char::to_lowercase)
-        .collect()
+    name.chars().filter(|c| !matches!(c, ' ' | '-' | '_')).flat_map(char::to_lowercase).collect()
 }
 
 /// The file as written.
@@ -147,24 +142,12 @@ fn parse_catalogue(text: &str) -> Result<Vec<GlassEntry>, String> {
         if lookup_key(&glass.name).is_empty() || glass.source.trim().is_empty() {
             return Err(format!("{context}: a glass needs a name and a source"));
         }
-        if glasses
-            .iter()
-            .any(|other| lookup_key(&other.name) == lookup_key(&glass.name))
-        {
+        if glasses.iter().any(|other| lookup_key(&other.name) == lookup_key(&glass.name)) {
             return Err(format!("{context} appears twice"));
         }
         let formula = match (glass.sellmeier, glass.power_series) {
-            (Some(sellmeier), None) => {
-                sellmeier_formula(sellmeier).map_err(|e| format!("{context}: {e}"))?
-            }
-            (
-                None,
-                Some(PowerSeriesDesc {
-                    a,
-                    coefficients,
-                    exponents,
-                }),
-            ) => {
+            (Some(sellmeier), None) => sellmeier_formula(sellmeier).map_err(|e| format!("{context}: {e}"))?,
+            (None, Some(PowerSeriesDesc { a, coefficients, exponents })) => {
                 if coefficients.is_empty() || coefficients.len() != exponents.len() {
                     return Err(format!(
                         "{context}: {} coefficients but {} exponents",
@@ -172,17 +155,9 @@ fn parse_catalogue(text: &str) -> Result<Vec<GlassEntry>, String> {
                         exponents.len()
                     ));
                 }
-                DispersionFormula::PowerSeries {
-                    a,
-                    coefficients,
-                    exponents,
-                }
+                DispersionFormula::PowerSeries { a, coefficients, exponents }
             }
-            _ => {
-                return Err(format!(
-                    "{context}: give exactly one of sellmeier and power_series"
-                ))
-            }
+            _ => return Err(format!("{context}: give exactly one of sellmeier and power_series")),
         };
         let ior = formula.to_ior();
         ior.validate().map_err(|err| format!("{context}: {err}"))?;
@@ -200,11 +175,7 @@ fn parse_catalogue(text: &str) -> Result<Vec<GlassEntry>, String> {
 }
 
 fn sellmeier_formula(desc: SellmeierDesc) -> Result<DispersionFormula, String> {
-    let SellmeierDesc {
-        b,
-        c_um2,
-        resonance_um,
-    } = desc;
+    let SellmeierDesc { b, c_um2, resonance_um } = desc;
     let c_um2 = match (c_um2, resonance_um) {
         (Some(c_um2), None) => c_um2,
         (None, Some(resonance_um)) => resonance_um.iter().map(|l| l * l).collect(),
@@ -278,10 +249,7 @@ mod tests {
         assert!((n_589 - 2.4175).abs() < 5e-4, "n(589 nm) = {n_589}");
         let formula = diamond.formula();
         let dispersion = formula.n_at_nm(LAMBDA_F_NM) - formula.n_at_nm(LAMBDA_C_NM);
-        assert!(
-            (dispersion - 0.025).abs() < 1e-3,
-            "n_F − n_C = {dispersion}"
-        );
+        assert!((dispersion - 0.025).abs() < 1e-3, "n_F − n_C = {dispersion}");
     }
 
     #[test]
@@ -297,12 +265,8 @@ mod tests {
         // The fits in data/glasses.toml were computed by fit_cauchy; refitting must give the
         // same numbers, and the stated error must be the true largest error of the stored fit.
         for glass in glasses() {
-            let refit = fit_cauchy(
-                |l| glass.formula.n_at_nm(l),
-                CAUCHY_FIT_RANGE_NM,
-                CAUCHY_FIT_STEP_NM,
-            )
-            .expect("every catalogue glass can be fitted");
+            let refit = fit_cauchy(|l| glass.formula.n_at_nm(l), CAUCHY_FIT_RANGE_NM, CAUCHY_FIT_STEP_NM)
+                .expect("every catalogue glass can be fitted");
             let stored = glass.cauchy_fit();
             let close = |x: f64, y: f64| (x - y).abs() <= 1e-10 * (1.0 + y.abs());
             assert!(
@@ -327,13 +291,8 @@ mod tests {
             let ior = fit.to_ior();
             for i in 0..=600 {
                 let lambda_nm = 400.0 + 0.5 * i as f64;
-                let error =
-                    (ior.eval(lambda_nm as f32) as f64 - glass.formula.n_at_nm(lambda_nm)).abs();
-                assert!(
-                    error <= fit.max_abs_error + 1e-6,
-                    "{} at {lambda_nm} nm: {error}",
-                    glass.name
-                );
+                let error = (ior.eval(lambda_nm as f32) as f64 - glass.formula.n_at_nm(lambda_nm)).abs();
+                assert!(error <= fit.max_abs_error + 1e-6, "{} at {lambda_nm} nm: {error}", glass.name);
             }
         }
     }
@@ -360,10 +319,7 @@ mod tests {
         for name in ["N-BK7", "n-bk7", "NBK7", "n_bk7"] {
             assert_eq!(glass(name).map(GlassEntry::name), Some("N-BK7"), "{name}");
         }
-        assert_eq!(
-            glass("Fused Silica").map(GlassEntry::name),
-            Some("fused-silica")
-        );
+        assert_eq!(glass("Fused Silica").map(GlassEntry::name), Some("fused-silica"));
         assert!(glass_ior("n-sf11").is_some());
         assert_eq!(glass_ior("unobtainium"), None);
         assert!(glass_names().contains(&"F2"));

@@ -34,15 +34,9 @@ pub struct ConductorFresnel {
 /// (`eta` ≠ 0). The sign of `cos_theta_i` is ignored: light arrives from the exterior, since no
 /// ray travels inside a metal. Never NaN for finite inputs.
 pub fn fresnel_conductor(cos_theta_i: f32, eta: Complex32) -> ConductorFresnel {
-    debug_assert!(
-        eta.re.is_finite() && eta.im.is_finite() && eta.norm_sqr() > 0.0,
-        "{eta}"
-    );
+    debug_assert!(eta.re.is_finite() && eta.im.is_finite() && eta.norm_sqr() > 0.0, "{eta}");
     // Dot products of unit vectors overshoot 1 by a few ulps; that is harmless here.
-    debug_assert!(
-        cos_theta_i.abs() <= 1.0 + 1e-5,
-        "cos θi = {cos_theta_i} outside [-1, 1]"
-    );
+    debug_assert!(cos_theta_i.abs() <= 1.0 + 1e-5, "cos θi = {cos_theta_i} outside [-1, 1]");
     let cos_i = cos_theta_i.abs();
     let sin_i_sqr = (-cos_i).mul_add(cos_i, 1.0);
     // η² − sin² θi = (n² − k² − sin² θi) + i 2nk =: (a + ib)².
@@ -61,15 +55,8 @@ pub fn fresnel_conductor(cos_theta_i: f32, eta: Complex32) -> ConductorFresnel {
     // sin θi = 0 and η = 0, which is excluded.
     let (a_cos, b_sqr_cos_sqr) = (a * cos_i, b_sqr * cos_i * cos_i);
     let reflectance_p = reflectance_s
-        * ratio_or_zero(
-            square(a_cos - sin_i_sqr) + b_sqr_cos_sqr,
-            square(a_cos + sin_i_sqr) + b_sqr_cos_sqr,
-        );
-    ConductorFresnel {
-        reflectance_s,
-        reflectance_p,
-        reflectance: 0.5 * (reflectance_s + reflectance_p),
-    }
+        * ratio_or_zero(square(a_cos - sin_i_sqr) + b_sqr_cos_sqr, square(a_cos + sin_i_sqr) + b_sqr_cos_sqr);
+    ConductorFresnel { reflectance_s, reflectance_p, reflectance: 0.5 * (reflectance_s + reflectance_p) }
 }
 
 fn square(x: f32) -> f32 {
@@ -98,19 +85,10 @@ mod tests {
     fn normal_incidence_matches_the_textbook_formula() {
         // Hecht §4.8 / Born & Wolf ch. 14: at normal incidence R = ((n−1)² + k²)/((n+1)² + k²).
         // Silver-like 0.05 + 4.2i: (0.9025 + 17.64)/(1.1025 + 17.64) = 0.989329…
-        for (n, k) in [
-            (0.05_f32, 4.2_f32),
-            (0.2, 3.5),
-            (1.0, 6.7),
-            (2.0, 1.0),
-            (1.5, 0.0),
-        ] {
+        for (n, k) in [(0.05_f32, 4.2_f32), (0.2, 3.5), (1.0, 6.7), (2.0, 1.0), (1.5, 0.0)] {
             let expected = ((n - 1.0).powi(2) + k * k) / ((n + 1.0).powi(2) + k * k);
             let f = fresnel_conductor(1.0, eta(n, k));
-            assert!(
-                (f.reflectance - expected).abs() < 1e-6,
-                "{n}+{k}i: {f:?} vs {expected}"
-            );
+            assert!((f.reflectance - expected).abs() < 1e-6, "{n}+{k}i: {f:?} vs {expected}");
             assert!((f.reflectance_s - f.reflectance_p).abs() < 1e-6);
         }
         let silver_like = fresnel_conductor(1.0, eta(0.05, 4.2)).reflectance;
@@ -127,10 +105,7 @@ mod tests {
                 let conductor = fresnel_conductor(cos_theta_i, eta(n, 0.0));
                 let dielectric = fresnel_dielectric(cos_theta_i, n);
                 let context = format!("n {n}, cos θi {cos_theta_i}: {conductor:?} {dielectric:?}");
-                assert!(
-                    (conductor.reflectance - dielectric.reflectance).abs() < 2e-6,
-                    "{context}"
-                );
+                assert!((conductor.reflectance - dielectric.reflectance).abs() < 2e-6, "{context}");
                 assert!((conductor.reflectance_s - dielectric.reflectance_s).abs() < 2e-6);
                 assert!((conductor.reflectance_p - dielectric.reflectance_p).abs() < 2e-6);
             }
@@ -152,43 +127,25 @@ mod tests {
         // Born & Wolf ch. 14: R_p of a metal dips (without reaching 0) near the principal
         // angle, then rises to 1 at grazing incidence; R_s grows monotonically to 1.
         let metal = eta(1.0, 6.7);
-        let samples: Vec<ConductorFresnel> = (0..=1000)
-            .map(|i| fresnel_conductor(1.0 - i as f32 / 1000.0, metal))
-            .collect();
-        let min_p = samples
-            .iter()
-            .map(|f| f.reflectance_p)
-            .fold(f32::INFINITY, f32::min);
-        assert!(
-            min_p > 0.0 && min_p < samples[0].reflectance_p - 0.05,
-            "{min_p}"
-        );
-        assert!(samples
-            .windows(2)
-            .all(|w| w[1].reflectance_s >= w[0].reflectance_s - 1e-6));
+        let samples: Vec<ConductorFresnel> =
+            (0..=1000).map(|i| fresnel_conductor(1.0 - i as f32 / 1000.0, metal)).collect();
+        let min_p = samples.iter().map(|f| f.reflectance_p).fold(f32::INFINITY, f32::min);
+        assert!(min_p > 0.0 && min_p < samples[0].reflectance_p - 0.05, "{min_p}");
+        assert!(samples.windows(2).all(|w| w[1].reflectance_s >= w[0].reflectance_s - 1e-6));
         let grazing = samples[1000];
         assert!((grazing.reflectance - 1.0).abs() < 1e-6, "{grazing:?}");
     }
 
     #[test]
     fn never_nan_and_never_above_one() {
-        let etas = [
-            eta(0.05, 4.2),
-            eta(1.0, 0.0),
-            eta(0.5, 0.0),
-            eta(1.0, 1e-6),
-            eta(3.0, 0.01),
-            eta(0.01, 10.0),
-        ];
+        let etas =
+            [eta(0.05, 4.2), eta(1.0, 0.0), eta(0.5, 0.0), eta(1.0, 1e-6), eta(3.0, 0.01), eta(0.01, 10.0)];
         for eta in etas {
             for i in 0..=200 {
                 let cos_theta_i = i as f32 / 200.0;
                 let f = fresnel_conductor(cos_theta_i, eta);
                 for r in [f.reflectance_s, f.reflectance_p, f.reflectance] {
-                    assert!(
-                        r.is_finite() && (0.0..=1.0 + 1e-6).contains(&r),
-                        "{eta} {f:?}"
-                    );
+                    assert!(r.is_finite() && (0.0..=1.0 + 1e-6).contains(&r), "{eta} {f:?}");
                 }
             }
         }

@@ -76,16 +76,9 @@ impl DispersionFormula {
         let lambda_um2 = lambda_um * lambda_um;
         match self {
             DispersionFormula::Sellmeier { b, c_um2 } => (1.0
-                + b.iter()
-                    .zip(c_um2)
-                    .map(|(b_i, c_i)| b_i * lambda_um2 / (lambda_um2 - c_i))
-                    .sum::<f64>())
+                + b.iter().zip(c_um2).map(|(b_i, c_i)| b_i * lambda_um2 / (lambda_um2 - c_i)).sum::<f64>())
             .sqrt(),
-            DispersionFormula::PowerSeries {
-                a,
-                coefficients,
-                exponents,
-            } => (a + coefficients
+            DispersionFormula::PowerSeries { a, coefficients, exponents } => (a + coefficients
                 .iter()
                 .zip(exponents)
                 .map(|(d_i, p_i)| d_i * lambda_um.powf(*p_i))
@@ -122,11 +115,9 @@ impl DispersionFormula {
                 }
                 Ior::Sellmeier { b: b3, c_um2: c3 }
             }
-            DispersionFormula::Cauchy { a, b_um2, c_um4 } => Ior::Cauchy {
-                a: *a as f32,
-                b_um2: *b_um2 as f32,
-                c_um4: *c_um4 as f32,
-            },
+            DispersionFormula::Cauchy { a, b_um2, c_um4 } => {
+                Ior::Cauchy { a: *a as f32, b_um2: *b_um2 as f32, c_um4: *c_um4 as f32 }
+            }
             DispersionFormula::Sellmeier { .. } | DispersionFormula::PowerSeries { .. } => {
                 let (first, last) = (f64::from(LAMBDA_MIN_NM), f64::from(LAMBDA_MAX_NM));
                 let count = ((last - first) / TABULATION_STEP_NM).round() as usize;
@@ -157,32 +148,19 @@ pub struct CauchyFit {
 impl CauchyFit {
     /// The fit as a renderer [`Ior::Cauchy`].
     pub fn to_ior(&self) -> Ior {
-        Ior::Cauchy {
-            a: self.a as f32,
-            b_um2: self.b_um2 as f32,
-            c_um4: self.c_um4 as f32,
-        }
+        Ior::Cauchy { a: self.a as f32, b_um2: self.b_um2 as f32, c_um4: self.c_um4 as f32 }
     }
 
     /// n of the fitted law at `lambda_nm`.
     pub fn n_at_nm(&self, lambda_nm: f64) -> f64 {
-        DispersionFormula::Cauchy {
-            a: self.a,
-            b_um2: self.b_um2,
-            c_um4: self.c_um4,
-        }
-        .n_at_nm(lambda_nm)
+        DispersionFormula::Cauchy { a: self.a, b_um2: self.b_um2, c_um4: self.c_um4 }.n_at_nm(lambda_nm)
     }
 }
 
 /// Least-squares fit of Cauchy's law to `n_at_nm` sampled every `step_nm` from `range_nm.0` to
 /// `range_nm.1` (both included, nm). `None` with fewer than three samples, a non-positive or
 /// non-finite step or range, non-finite n, or singular normal equations.
-pub fn fit_cauchy(
-    n_at_nm: impl Fn(f64) -> f64,
-    range_nm: (f64, f64),
-    step_nm: f64,
-) -> Option<CauchyFit> {
+pub fn fit_cauchy(n_at_nm: impl Fn(f64) -> f64, range_nm: (f64, f64), step_nm: f64) -> Option<CauchyFit> {
     let (first, last) = range_nm;
     if !(step_nm > 0.0 && first > 0.0 && last.is_finite() && last >= first) {
         return None;
@@ -209,24 +187,16 @@ pub fn fit_cauchy(
         }
     }
     let [a, b_um2, c_um4] = solve_3x3(normal, rhs)?;
-    let mut fit = CauchyFit {
-        a,
-        b_um2,
-        c_um4,
-        max_abs_error: 0.0,
-    };
-    fit.max_abs_error = samples
-        .iter()
-        .map(|&(lambda_nm, n)| (fit.n_at_nm(lambda_nm) - n).abs())
-        .fold(0.0, f64::max);
+    let mut fit = CauchyFit { a, b_um2, c_um4, max_abs_error: 0.0 };
+    fit.max_abs_error =
+        samples.iter().map(|&(lambda_nm, n)| (fit.n_at_nm(lambda_nm) - n).abs()).fold(0.0, f64::max);
     Some(fit)
 }
 
 /// Gaussian elimination with partial pivoting; `None` for a singular matrix.
 fn solve_3x3(mut m: [[f64; 3]; 3], mut rhs: [f64; 3]) -> Option<[f64; 3]> {
     for column in 0..3 {
-        let pivot =
-            (column..3).max_by(|&i, &j| m[i][column].abs().total_cmp(&m[j][column].abs()))?;
+        let pivot = (column..3).max_by(|&i, &j| m[i][column].abs().total_cmp(&m[j][column].abs()))?;
         if m[pivot][column] == 0.0 {
             return None;
         }
@@ -266,11 +236,7 @@ mod tests {
         // SCHOTT N-BK7: n_d = 1.51680, V_d = 64.17 (data sheet, rounded to the last digit).
         let glass = n_bk7();
         assert!((glass.n_d() - 1.51680).abs() < 5e-6, "{}", glass.n_d());
-        assert!(
-            (glass.abbe_vd() - 64.17).abs() < 0.005,
-            "{}",
-            glass.abbe_vd()
-        );
+        assert!((glass.abbe_vd() - 64.17).abs() < 0.005, "{}", glass.abbe_vd());
     }
 
     #[test]
@@ -278,22 +244,14 @@ mod tests {
         // For n = A + B/λ², V_d = (A + B/λd² − 1) / (B (1/λF² − 1/λC²)), computed by hand:
         // 1/λd² = 2.896629, 1/λF² = 4.231461, 1/λC² = 2.321836 µm⁻² (λ in µm), so
         // V_d = 0.51448315 / 0.00954813 = 53.8832.
-        let law = DispersionFormula::Cauchy {
-            a: 1.5,
-            b_um2: 0.005,
-            c_um4: 0.0,
-        };
+        let law = DispersionFormula::Cauchy { a: 1.5, b_um2: 0.005, c_um4: 0.0 };
         assert!((law.abbe_vd() - 53.8832).abs() < 1e-3, "{}", law.abbe_vd());
     }
 
     #[test]
     fn cauchy_fit_recovers_an_exact_cauchy_law() {
         // Fitting data that follow Cauchy's law exactly returns the law, with zero error.
-        let law = DispersionFormula::Cauchy {
-            a: 1.5,
-            b_um2: 0.004,
-            c_um4: 0.0001,
-        };
+        let law = DispersionFormula::Cauchy { a: 1.5, b_um2: 0.004, c_um4: 0.0001 };
         let fit = fit_cauchy(|l| law.n_at_nm(l), CAUCHY_FIT_RANGE_NM, CAUCHY_FIT_STEP_NM)
             .expect("a well-posed fit");
         assert!((fit.a - 1.5).abs() < 1e-10, "{fit:?}");
@@ -308,22 +266,12 @@ mod tests {
         // (SCHOTT TIE-29 notes that Cauchy-type laws hold in the visible only); it is not exact,
         // because N-BK7's infrared resonance bends n(λ) away from a power series in 1/λ².
         let glass = n_bk7();
-        let fit = fit_cauchy(
-            |l| glass.n_at_nm(l),
-            CAUCHY_FIT_RANGE_NM,
-            CAUCHY_FIT_STEP_NM,
-        )
-        .expect("a well-posed fit");
-        assert!(
-            fit.max_abs_error > 1e-7 && fit.max_abs_error < 1e-4,
-            "{fit:?}"
-        );
+        let fit = fit_cauchy(|l| glass.n_at_nm(l), CAUCHY_FIT_RANGE_NM, CAUCHY_FIT_STEP_NM)
+            .expect("a well-posed fit");
+        assert!(fit.max_abs_error > 1e-7 && fit.max_abs_error < 1e-4, "{fit:?}");
         // The two-term values usually quoted for BK7, A ≈ 1.5046 and B ≈ 0.00420 µm² (e.g. the
         // table in Wikipedia's "Cauchy's equation"); the third term moves them slightly.
-        assert!(
-            (fit.a - 1.5046).abs() < 2e-3 && (fit.b_um2 - 0.0042).abs() < 5e-4,
-            "{fit:?}"
-        );
+        assert!((fit.a - 1.5046).abs() < 2e-3 && (fit.b_um2 - 0.0042).abs() < 5e-4, "{fit:?}");
     }
 
     #[test]
@@ -332,11 +280,7 @@ mod tests {
         assert_eq!(fit_cauchy(law, (500.0, 501.0), 1.0), None, "two samples");
         assert_eq!(fit_cauchy(law, (400.0, 700.0), 0.0), None, "zero step");
         assert_eq!(fit_cauchy(law, (700.0, 400.0), 1.0), None, "reversed range");
-        assert_eq!(
-            fit_cauchy(|_| f64::NAN, (400.0, 700.0), 1.0),
-            None,
-            "NaN data"
-        );
+        assert_eq!(fit_cauchy(|_| f64::NAN, (400.0, 700.0), 1.0), None, "NaN data");
     }
 
     #[test]
@@ -344,18 +288,8 @@ mod tests {
         // Daimon & Masumura (2007), water at 20 °C, four terms: the table must follow the
         // formula to ~1e-7 between its 1 nm knots (f32 rounding dominates).
         let water = DispersionFormula::Sellmeier {
-            b: vec![
-                5.684027565e-1,
-                1.726177391e-1,
-                2.086189578e-2,
-                1.130748688e-1,
-            ],
-            c_um2: vec![
-                5.101829712e-3,
-                1.821153936e-2,
-                2.620722293e-2,
-                1.069792721e1,
-            ],
+            b: vec![5.684027565e-1, 1.726177391e-1, 2.086189578e-2, 1.130748688e-1],
+            c_um2: vec![5.101829712e-3, 1.821153936e-2, 2.620722293e-2, 1.069792721e1],
         };
         let ior = water.to_ior();
         assert!(matches!(ior, Ior::Tabulated(_)));

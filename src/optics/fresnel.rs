@@ -93,11 +93,7 @@ pub fn fresnel_dielectric(cos_theta_i: f32, eta: f32) -> DielectricFresnel {
             eta_it: snell.eta_it,
         };
     }
-    let (cos_i, cos_t, eta_it) = (
-        snell.cos_theta_i_abs,
-        snell.cos_theta_t_sqr.sqrt(),
-        snell.eta_it,
-    );
+    let (cos_i, cos_t, eta_it) = (snell.cos_theta_i_abs, snell.cos_theta_t_sqr.sqrt(), snell.eta_it);
     // Both denominators are > 0: cos_t > 0 outside total internal reflection.
     let r_s = (-eta_it).mul_add(cos_t, cos_i) / eta_it.mul_add(cos_t, cos_i);
     let r_p = eta_it.mul_add(cos_i, -cos_t) / eta_it.mul_add(cos_i, cos_t);
@@ -202,10 +198,7 @@ pub fn fresnel_dielectric_amplitudes(cos_theta_i: f32, eta: f32) -> DielectricAm
         // eta_it (cos θt / cos θi) |t|², written without dividing by cos θi so that grazing
         // incidence gives 0 instead of 0/0.
         let flux = 4.0 * cos_i * eta_it * cos_t.re;
-        (
-            flux / denominator_s.norm_sqr(),
-            flux / denominator_p.norm_sqr(),
-        )
+        (flux / denominator_s.norm_sqr(), flux / denominator_p.norm_sqr())
     };
     let (reflectance_s, reflectance_p) = (r_s.norm_sqr(), r_p.norm_sqr());
     DielectricAmplitudes {
@@ -219,11 +212,7 @@ pub fn fresnel_dielectric_amplitudes(cos_theta_i: f32, eta: f32) -> DielectricAm
         transmittance_s,
         transmittance_p,
         transmittance: 0.5 * (transmittance_s + transmittance_p),
-        cos_theta_t: if total_internal_reflection {
-            0.0
-        } else {
-            snell.signed_cos_theta_t()
-        },
+        cos_theta_t: if total_internal_reflection { 0.0 } else { snell.signed_cos_theta_t() },
         eta_it,
         eta_ti: snell.eta_ti,
     }
@@ -253,37 +242,21 @@ enum Rounding {
 
 impl Snell {
     fn new(cos_theta_i: f32, eta: f32, rounding: Rounding) -> Self {
-        debug_assert!(
-            eta.is_finite() && eta > 0.0,
-            "relative index {eta} must be finite and > 0"
-        );
+        debug_assert!(eta.is_finite() && eta > 0.0, "relative index {eta} must be finite and > 0");
         // Dot products of unit vectors overshoot 1 by a few ulps; that is harmless here.
-        debug_assert!(
-            cos_theta_i.abs() <= 1.0 + 1e-5,
-            "cos θi = {cos_theta_i} outside [-1, 1]"
-        );
+        debug_assert!(cos_theta_i.abs() <= 1.0 + 1e-5, "cos θi = {cos_theta_i} outside [-1, 1]");
         let from_exterior = cos_theta_i >= 0.0;
         let rcp_eta = match rounding {
             Rounding::Fused => 1.0 / eta,
             Rounding::ComplexIndex => eta * (1.0 / (eta * eta)),
         };
-        let (eta_it, eta_ti) = if from_exterior {
-            (eta, rcp_eta)
-        } else {
-            (rcp_eta, eta)
-        };
+        let (eta_it, eta_ti) = if from_exterior { (eta, rcp_eta) } else { (rcp_eta, eta) };
         let sin_theta_i_sqr = (-cos_theta_i).mul_add(cos_theta_i, 1.0);
         let cos_theta_t_sqr = match rounding {
             Rounding::Fused => (-sin_theta_i_sqr).mul_add(eta_ti * eta_ti, 1.0),
             Rounding::ComplexIndex => 1.0 - eta_ti * eta_ti * sin_theta_i_sqr,
         };
-        Self {
-            from_exterior,
-            cos_theta_i_abs: cos_theta_i.abs(),
-            cos_theta_t_sqr,
-            eta_it,
-            eta_ti,
-        }
+        Self { from_exterior, cos_theta_i_abs: cos_theta_i.abs(), cos_theta_t_sqr, eta_it, eta_ti }
     }
 
     /// At exactly the critical angle cos θt = 0 and R = 1, the limit from either side.
@@ -319,11 +292,7 @@ mod tests {
             let eta = eta as f64;
             let sin_critical = eta.min(1.0 / eta);
             let cos_critical = (1.0 - sin_critical * sin_critical).sqrt() as f32;
-            for c in [
-                cos_critical,
-                cos_critical.next_up(),
-                cos_critical.next_down(),
-            ] {
+            for c in [cos_critical, cos_critical.next_up(), cos_critical.next_down()] {
                 grid.extend([c, -c]);
             }
         }
@@ -335,11 +304,7 @@ mod tests {
         // Hecht §4.6.4: at normal incidence R = ((n − 1)/(n + 1))² from either side; for
         // n = 1.5 that is 0.04, for diamond (2.4) (1.4/3.4)² = 0.169550, for water (1.333)
         // (0.333/2.333)² = 0.0203732.
-        for (n, expected) in [
-            (1.5_f32, 0.04_f32),
-            (2.4, 0.169_550_17),
-            (1.333, 0.020_373_19),
-        ] {
+        for (n, expected) in [(1.5_f32, 0.04_f32), (2.4, 0.169_550_17), (1.333, 0.020_373_19)] {
             for cos_theta_i in [1.0, -1.0] {
                 let f = fresnel_dielectric(cos_theta_i, n);
                 assert!((f.reflectance - expected).abs() < 1e-6, "n {n}: {f:?}");
@@ -347,11 +312,7 @@ mod tests {
                 // Hecht's convention: r∥ = −r⊥ at normal incidence, r⊥ < 0 going into the
                 // denser medium (a phase flip of π on external reflection).
                 assert!((f.r_s + f.r_p).abs() < 1e-6);
-                assert_eq!(
-                    f.r_s < 0.0,
-                    cos_theta_i > 0.0,
-                    "n {n}, cos {cos_theta_i}: {f:?}"
-                );
+                assert_eq!(f.r_s < 0.0, cos_theta_i > 0.0, "n {n}, cos {cos_theta_i}: {f:?}");
             }
         }
     }
@@ -374,34 +335,13 @@ mod tests {
                 let f = fresnel_dielectric(theta_i.cos() as f32, n as f32);
                 let a = fresnel_dielectric_amplitudes(theta_i.cos() as f32, n as f32);
                 let context = format!("n {n}, θi {degrees}°");
-                assert!(
-                    (f.r_s as f64 - expected_r_s).abs() < 2e-6,
-                    "{context}: {f:?}"
-                );
-                assert!(
-                    (f.r_p as f64 - expected_r_p).abs() < 2e-6,
-                    "{context}: {f:?}"
-                );
-                assert!(
-                    (a.r_s.re as f64 - expected_r_s).abs() < 2e-6,
-                    "{context}: {a:?}"
-                );
-                assert!(
-                    (a.r_p.re as f64 - expected_r_p).abs() < 2e-6,
-                    "{context}: {a:?}"
-                );
-                assert!(
-                    (a.t_s.re as f64 - expected_t_s).abs() < 2e-6,
-                    "{context}: {a:?}"
-                );
-                assert!(
-                    (a.t_p.re as f64 - expected_t_p).abs() < 2e-6,
-                    "{context}: {a:?}"
-                );
-                assert!(
-                    (f.cos_theta_t as f64 + theta_t.cos()).abs() < 1e-6,
-                    "{context}"
-                );
+                assert!((f.r_s as f64 - expected_r_s).abs() < 2e-6, "{context}: {f:?}");
+                assert!((f.r_p as f64 - expected_r_p).abs() < 2e-6, "{context}: {f:?}");
+                assert!((a.r_s.re as f64 - expected_r_s).abs() < 2e-6, "{context}: {a:?}");
+                assert!((a.r_p.re as f64 - expected_r_p).abs() < 2e-6, "{context}: {a:?}");
+                assert!((a.t_s.re as f64 - expected_t_s).abs() < 2e-6, "{context}: {a:?}");
+                assert!((a.t_p.re as f64 - expected_t_p).abs() < 2e-6, "{context}: {a:?}");
+                assert!((f.cos_theta_t as f64 + theta_t.cos()).abs() < 1e-6, "{context}");
             }
         }
     }
@@ -462,14 +402,8 @@ mod tests {
             let a = fresnel_dielectric_amplitudes(-theta_i.cos() as f32, 1.5);
             assert!((a.r_s.norm() - 1.0).abs() < 1e-6, "{degrees}°: {a:?}");
             assert!((a.r_p.norm() - 1.0).abs() < 1e-6, "{degrees}°: {a:?}");
-            assert!(
-                (a.r_s.arg() as f64 - delta_s).abs() < 1e-5,
-                "{degrees}°: {a:?}"
-            );
-            assert!(
-                (a.r_p.arg() as f64 - delta_p).abs() < 1e-5,
-                "{degrees}°: {a:?}"
-            );
+            assert!((a.r_s.arg() as f64 - delta_s).abs() < 1e-5, "{degrees}°: {a:?}");
+            assert!((a.r_p.arg() as f64 - delta_p).abs() < 1e-5, "{degrees}°: {a:?}");
         }
     }
 
@@ -480,14 +414,8 @@ mod tests {
             for cos_theta_i in cos_grid() {
                 let a = fresnel_dielectric_amplitudes(cos_theta_i, eta);
                 let context = format!("eta {eta}, cos θi {cos_theta_i}: {a:?}");
-                assert!(
-                    (a.reflectance_s + a.transmittance_s - 1.0).abs() < 2e-6,
-                    "{context}"
-                );
-                assert!(
-                    (a.reflectance_p + a.transmittance_p - 1.0).abs() < 2e-6,
-                    "{context}"
-                );
+                assert!((a.reflectance_s + a.transmittance_s - 1.0).abs() < 2e-6, "{context}");
+                assert!((a.reflectance_p + a.transmittance_p - 1.0).abs() < 2e-6, "{context}");
             }
         }
     }
@@ -531,14 +459,8 @@ mod tests {
                 // where R and cos θt change like 1/cos θt per unit cos θi and amplify the f32
                 // rounding of cos θt (6e-8) some 10- to 40-fold at 85°.
                 let context = format!("eta {eta}, {degrees}°: {inward:?} {outward:?}");
-                assert!(
-                    (inward.reflectance - outward.reflectance).abs() < 5e-6,
-                    "{context}"
-                );
-                assert!(
-                    (outward.cos_theta_t - cos_theta_i).abs() < 5e-6,
-                    "{context}"
-                );
+                assert!((inward.reflectance - outward.reflectance).abs() < 5e-6, "{context}");
+                assert!((outward.cos_theta_t - cos_theta_i).abs() < 5e-6, "{context}");
                 assert!((inward.eta_it * outward.eta_it - 1.0).abs() < 1e-6);
             }
         }
@@ -553,15 +475,10 @@ mod tests {
                 let from_exterior = cos_theta_i >= 0.0;
                 let expected_eta_it = if from_exterior { eta } else { 1.0 / eta };
                 // Within an ulp: the amplitudes form its reciprocal as eta / eta².
-                assert!(
-                    (a.eta_it - expected_eta_it).abs() <= 2e-7 * expected_eta_it,
-                    "{a:?}"
-                );
+                assert!((a.eta_it - expected_eta_it).abs() <= 2e-7 * expected_eta_it, "{a:?}");
                 assert!((a.eta_it * a.eta_ti - 1.0).abs() < 1e-6);
                 if a.transmittance > 0.0 {
-                    let sin_i = (1.0 - cos_theta_i as f64 * cos_theta_i as f64)
-                        .max(0.0)
-                        .sqrt();
+                    let sin_i = (1.0 - cos_theta_i as f64 * cos_theta_i as f64).max(0.0).sqrt();
                     let sin_t = (1.0 - a.cos_theta_t as f64 * a.cos_theta_t as f64).sqrt();
                     assert!((sin_i - a.eta_it as f64 * sin_t).abs() < 1e-5, "{a:?}");
                     // The transmitted ray crosses to the other side (unless it grazes it).
@@ -623,10 +540,7 @@ mod tests {
                     a.cos_theta_t,
                     a.eta_ti,
                 ];
-                assert!(
-                    values.iter().all(|v| v.is_finite()),
-                    "eta {eta}, cos {cos_theta_i}"
-                );
+                assert!(values.iter().all(|v| v.is_finite()), "eta {eta}, cos {cos_theta_i}");
                 assert!((0.0..=1.0).contains(&f.reflectance), "{f:?}");
             }
         }
@@ -650,14 +564,8 @@ mod tests {
                     compared += 1;
                     assert!((f.cos_theta_t - a.cos_theta_t).abs() < 2e-6, "{context}");
                     assert!((f.reflectance - a.reflectance).abs() < 1e-5, "{context}");
-                    assert!(
-                        (f.r_s - a.r_s.re).abs() < 1e-5 && a.r_s.im == 0.0,
-                        "{context}"
-                    );
-                    assert!(
-                        (f.r_p - a.r_p.re).abs() < 1e-5 && a.r_p.im == 0.0,
-                        "{context}"
-                    );
+                    assert!((f.r_s - a.r_s.re).abs() < 1e-5 && a.r_s.im == 0.0, "{context}");
+                    assert!((f.r_p - a.r_p.re).abs() < 1e-5 && a.r_p.im == 0.0, "{context}");
                 } else if f.cos_theta_t == 0.0 && a.cos_theta_t == 0.0 && eta != 1.0 {
                     compared += 1;
                     assert!((a.reflectance - 1.0).abs() < 1e-6, "{context}");

@@ -100,8 +100,7 @@ impl Ior {
 
     /// Evaluates n on the validation grid and rejects the first non-finite or non-positive value.
     fn check_sampled(&self, model: &str) -> Result<(), IorError> {
-        validation_wavelengths_nm()
-            .try_for_each(|lambda_nm| check_n(model, lambda_nm, self.eval(lambda_nm)))
+        validation_wavelengths_nm().try_for_each(|lambda_nm| check_n(model, lambda_nm, self.eval(lambda_nm)))
     }
 }
 
@@ -114,11 +113,7 @@ fn cauchy(a: f32, b_um2: f32, c_um4: f32, lambda_nm: f32) -> f32 {
 /// n² of Sellmeier's law at `lambda_nm`; negative or infinite at and near a pole.
 fn sellmeier_n_squared(b: &[f32; 3], c_um2: &[f32; 3], lambda_nm: f32) -> f32 {
     let lambda_um2 = square(lambda_nm * 1e-3);
-    1.0 + b
-        .iter()
-        .zip(c_um2)
-        .map(|(b_i, c_i)| b_i * lambda_um2 / (lambda_um2 - c_i))
-        .sum::<f32>()
+    1.0 + b.iter().zip(c_um2).map(|(b_i, c_i)| b_i * lambda_um2 / (lambda_um2 - c_i)).sum::<f32>()
 }
 
 fn square(x: f32) -> f32 {
@@ -164,9 +159,7 @@ fn check_n(model: &str, lambda_nm: f32, n: f32) -> Result<(), IorError> {
 
 fn check_finite_parameters(model: &str, parameters: &[f32]) -> Result<(), IorError> {
     match parameters.iter().find(|p| !p.is_finite()) {
-        Some(p) => Err(IorError::Invalid(format!(
-            "{model}: parameter {p} is not a finite number"
-        ))),
+        Some(p) => Err(IorError::Invalid(format!("{model}: parameter {p} is not a finite number"))),
         None => Ok(()),
     }
 }
@@ -237,11 +230,7 @@ mod tests {
     fn cauchy_uses_micrometres() {
         // At λ = 500 nm = 0.5 µm: 1/λ² = 4 µm⁻², 1/λ⁴ = 16 µm⁻⁴, so
         // n = 1.5 + 0.004·4 + 0.0001·16 = 1.5176.
-        let ior = Ior::Cauchy {
-            a: 1.5,
-            b_um2: 0.004,
-            c_um4: 0.0001,
-        };
+        let ior = Ior::Cauchy { a: 1.5, b_um2: 0.004, c_um4: 0.0001 };
         assert!((ior.eval(500.0) - 1.5176).abs() < 1e-6);
         // At 1000 nm = 1 µm the terms are just A + B + C = 1.5041.
         assert!((ior.eval(1000.0) - 1.5041).abs() < 1e-6);
@@ -263,10 +252,7 @@ mod tests {
     #[test]
     fn sellmeier_with_no_terms_is_vacuum() {
         // All Bᵢ = 0 leaves n² = 1.
-        let ior = Ior::Sellmeier {
-            b: [0.0; 3],
-            c_um2: [0.01, 0.02, 100.0],
-        };
+        let ior = Ior::Sellmeier { b: [0.0; 3], c_um2: [0.01, 0.02, 100.0] };
         assert_eq!(ior.eval(550.0), 1.0);
     }
 
@@ -314,11 +300,7 @@ mod tests {
     fn validate_reports_where_cauchy_goes_negative() {
         // n = −1 + 0.2/λ² is positive only for λ² < 0.2 µm², λ < 447.2 nm: at 448 nm it is
         // −1 + 0.2/0.200704 < 0, the first failing sample.
-        let ior = Ior::Cauchy {
-            a: -1.0,
-            b_um2: 0.2,
-            c_um4: 0.0,
-        };
+        let ior = Ior::Cauchy { a: -1.0, b_um2: 0.2, c_um4: 0.0 };
         let text = message(ior.validate());
         assert!(text.contains("Cauchy"), "{text}");
         assert!(text.contains("448 nm"), "{text}");
@@ -327,10 +309,7 @@ mod tests {
     #[test]
     fn validate_finds_a_sellmeier_pole_between_samples() {
         // C = 0.25050 µm² puts a pole at λ = 500.4998 nm, between the 1 nm samples.
-        let ior = Ior::Sellmeier {
-            b: [1.0, 0.0, 0.0],
-            c_um2: [0.2505, 0.0, 0.0],
-        };
+        let ior = Ior::Sellmeier { b: [1.0, 0.0, 0.0], c_um2: [0.2505, 0.0, 0.0] };
         let text = message(ior.validate());
         assert!(text.contains("pole"), "{text}");
         assert!(text.contains("term 1"), "{text}");
@@ -361,16 +340,9 @@ mod tests {
 
     #[test]
     fn validate_rejects_non_finite_parameters() {
-        let ior = Ior::Sellmeier {
-            b: [1.0, f32::NAN, 0.0],
-            c_um2: [0.01, 0.02, 100.0],
-        };
+        let ior = Ior::Sellmeier { b: [1.0, f32::NAN, 0.0], c_um2: [0.01, 0.02, 100.0] };
         assert!(message(ior.validate()).contains("not a finite number"));
-        let ior = Ior::Cauchy {
-            a: 1.5,
-            b_um2: f32::INFINITY,
-            c_um4: 0.0,
-        };
+        let ior = Ior::Cauchy { a: 1.5, b_um2: f32::INFINITY, c_um4: 0.0 };
         assert!(message(ior.validate()).contains("not a finite number"));
     }
 }

@@ -54,17 +54,11 @@ impl MetalEntry {
     }
     /// The complex index n + ik against vacuum at `lambda_nm` (nm), linearly interpolated.
     pub fn eta(&self, lambda_nm: f32) -> Complex32 {
-        Complex32::new(
-            interpolate_table(&self.n, lambda_nm),
-            interpolate_table(&self.k, lambda_nm),
-        )
+        Complex32::new(interpolate_table(&self.n, lambda_nm), interpolate_table(&self.k, lambda_nm))
     }
     /// The measured samples (λ nm, n, k).
     pub fn samples(&self) -> impl Iterator<Item = (f32, f32, f32)> + '_ {
-        self.n
-            .iter()
-            .zip(self.k.iter())
-            .map(|(&(lambda_nm, n), &(_, k))| (lambda_nm, n, k))
+        self.n.iter().zip(self.k.iter()).map(|(&(lambda_nm, n), &(_, k))| (lambda_nm, n, k))
     }
 }
 
@@ -77,21 +71,19 @@ pub fn metals() -> &'static [MetalEntry] {
     METALS.get_or_init(|| {
         METAL_FILES
             .iter()
-            .map(
-                |&(name, symbol, text)| match parse_metal(name, symbol, text) {
-                    Ok(metal) => metal,
-                    Err(message) => panic!("built-in data/metals file of {name}: {message}"),
-                },
-            )
+            .map(|&(name, symbol, text)| match parse_metal(name, symbol, text) {
+                Ok(metal) => metal,
+                Err(message) => panic!("built-in data/metals file of {name}: {message}"),
+            })
             .collect()
     })
 }
 
 /// Looks up a metal by name or chemical symbol, ignoring case.
 pub fn metal(name: &str) -> Option<&'static MetalEntry> {
-    metals().iter().find(|metal| {
-        metal.name.eq_ignore_ascii_case(name) || metal.symbol.eq_ignore_ascii_case(name)
-    })
+    metals()
+        .iter()
+        .find(|metal| metal.name.eq_ignore_ascii_case(name) || metal.symbol.eq_ignore_ascii_case(name))
 }
 
 /// Names of every built-in metal.
@@ -105,11 +97,7 @@ fn parse_metal(name: &'static str, symbol: &'static str, text: &str) -> Result<M
     let mut source = None;
     let mut header_seen = false;
     let (mut n, mut k) = (Vec::new(), Vec::new());
-    for (number, line) in text
-        .lines()
-        .enumerate()
-        .map(|(i, line)| (i + 1, line.trim()))
-    {
+    for (number, line) in text.lines().enumerate().map(|(i, line)| (i + 1, line.trim())) {
         if let Some(comment) = line.strip_prefix('#') {
             if let Some(text) = comment.trim().strip_prefix("Source:") {
                 source = Some(text.trim().to_owned());
@@ -132,28 +120,17 @@ fn parse_metal(name: &'static str, symbol: &'static str, text: &str) -> Result<M
             .collect::<Result<_, _>>()
             .map_err(|err| format!("line {number}: {err} in \"{line}\""))?;
         let &[lambda_nm, n_value, k_value] = values.as_slice() else {
-            return Err(format!(
-                "line {number}: expected 3 values, found {}",
-                values.len()
-            ));
+            return Err(format!("line {number}: expected 3 values, found {}", values.len()));
         };
         if !(k_value >= 0.0 && k_value.is_finite()) {
-            return Err(format!(
-                "line {number}: k = {k_value} must be finite and ≥ 0"
-            ));
+            return Err(format!("line {number}: k = {k_value} must be finite and ≥ 0"));
         }
         n.push((lambda_nm, n_value));
         k.push((lambda_nm, k_value));
     }
     validate_table(&format!("{name} n"), &n).map_err(|err| err.to_string())?;
     let source = source.ok_or("no \"# Source:\" line")?;
-    Ok(MetalEntry {
-        name,
-        symbol,
-        source,
-        n: n.into(),
-        k: k.into(),
-    })
+    Ok(MetalEntry { name, symbol, source, n: n.into(), k: k.into() })
 }
 
 #[cfg(test)]
@@ -210,15 +187,9 @@ mod tests {
         // Gold and copper absorb blue-green (interband transitions from the d bands) and reflect
         // red: gold < 0.5 at 450 nm but > 0.9 at 700 nm, copper < 0.65 at 500 nm but > 0.9 at
         // 700 nm (Johnson & Christy 1972; Bass, Handbook of Optics).
-        let gold = (
-            normal_reflectance("gold", 450.0),
-            normal_reflectance("gold", 700.0),
-        );
+        let gold = (normal_reflectance("gold", 450.0), normal_reflectance("gold", 700.0));
         assert!(gold.0 < 0.5 && gold.1 > 0.9, "{gold:?}");
-        let copper = (
-            normal_reflectance("copper", 500.0),
-            normal_reflectance("copper", 700.0),
-        );
+        let copper = (normal_reflectance("copper", 500.0), normal_reflectance("copper", 700.0));
         assert!(copper.0 < 0.65 && copper.1 > 0.9, "{copper:?}");
     }
 
@@ -235,10 +206,7 @@ mod tests {
         let header = "# Source: somewhere\nwavelength_nm,n,k\n";
         assert!(parse(&format!("{header}400,0.1,3\n500,0.2,4\n")).is_ok());
         let error = parse(&format!("{header}400,0.1\n")).expect_err("two columns");
-        assert!(
-            error.contains("line 3") && error.contains("3 values"),
-            "{error}"
-        );
+        assert!(error.contains("line 3") && error.contains("3 values"), "{error}");
         let error = parse(&format!("{header}400,0.1,x\n")).expect_err("not a number");
         assert!(error.contains("line 3"), "{error}");
         let error = parse(&format!("{header}400,0.1,-1\n")).expect_err("negative k");

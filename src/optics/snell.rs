@@ -25,21 +25,12 @@ pub fn reflect(dir: Vec3, normal: Vec3) -> Vec3 {
 /// reflection begins (at cos² θt ≤ 0, the critical angle included).
 #[inline]
 pub fn refract(dir: Vec3, normal: Vec3, eta_ratio: f32) -> Option<Vec3> {
-    debug_assert!(
-        dir.is_normalized() && normal.is_normalized(),
-        "{dir} {normal}"
-    );
-    debug_assert!(
-        eta_ratio.is_finite() && eta_ratio > 0.0,
-        "eta_ratio {eta_ratio}"
-    );
+    debug_assert!(dir.is_normalized() && normal.is_normalized(), "{dir} {normal}");
+    debug_assert!(eta_ratio.is_finite() && eta_ratio > 0.0, "eta_ratio {eta_ratio}");
     let cos_dir_normal = dir.dot(normal);
     // Turn the normal against the travel direction, towards the incident side.
-    let (normal, cos_theta_i) = if cos_dir_normal > 0.0 {
-        (-normal, cos_dir_normal)
-    } else {
-        (normal, -cos_dir_normal)
-    };
+    let (normal, cos_theta_i) =
+        if cos_dir_normal > 0.0 { (-normal, cos_dir_normal) } else { (normal, -cos_dir_normal) };
     let sin_theta_i_sqr = (-cos_theta_i).mul_add(cos_theta_i, 1.0);
     let cos_theta_t_sqr = (-sin_theta_i_sqr).mul_add(eta_ratio * eta_ratio, 1.0);
     if cos_theta_t_sqr <= 0.0 {
@@ -91,23 +82,11 @@ mod tests {
             refracted += 1;
             assert!((t.length() - 1.0).abs() < 1e-5, "|t| = {}", t.length());
             let sin_t = sin_between(t, normal);
-            assert!(
-                (n_i * sin_i - n_t * sin_t).abs() < 2e-5,
-                "{n_i}·{sin_i} vs {n_t}·{sin_t}"
-            );
-            assert!(
-                t.dot(dir.cross(normal)).abs() < 1e-5,
-                "t leaves the plane of incidence"
-            );
-            assert!(
-                t.dot(normal) * dir.dot(normal) >= 0.0,
-                "t must cross the interface"
-            );
+            assert!((n_i * sin_i - n_t * sin_t).abs() < 2e-5, "{n_i}·{sin_i} vs {n_t}·{sin_t}");
+            assert!(t.dot(dir.cross(normal)).abs() < 1e-5, "t leaves the plane of incidence");
+            assert!(t.dot(normal) * dir.dot(normal) >= 0.0, "t must cross the interface");
         }
-        assert!(
-            refracted > 1000,
-            "most random pairs refract; got {refracted}"
-        );
+        assert!(refracted > 1000, "most random pairs refract; got {refracted}");
     }
 
     #[test]

@@ -26,9 +26,7 @@ pub fn cie_y_integral() -> f32 {
     static INTEGRAL_NM: OnceLock<f32> = OnceLock::new();
     *INTEGRAL_NM.get_or_init(|| {
         let table = cmf_table();
-        (0..GRID_LEN)
-            .map(|i| trapezoid_weight_nm(i) * table[i].y as f64)
-            .sum::<f64>() as f32
+        (0..GRID_LEN).map(|i| trapezoid_weight_nm(i) * table[i].y as f64).sum::<f64>() as f32
     })
 }
 
@@ -114,11 +112,7 @@ mod tests {
     /// 106.856895, is the same sum without the half end weights, which are ~2e-6 here).
     #[test]
     fn y_integral_matches_published_value() {
-        assert!(
-            (cie_y_integral() - 106.856_895).abs() < 1e-3,
-            "{}",
-            cie_y_integral()
-        );
+        assert!((cie_y_integral() - 106.856_895).abs() < 1e-3, "{}", cie_y_integral());
     }
 
     /// The CIE 1931 functions were scaled so that the equal-energy illuminant E has
@@ -128,10 +122,7 @@ mod tests {
         let xyz = xyz_by_quadrature(|_| 1.0);
         assert!((xyz.y - 1.0).abs() < 1e-6, "Y = {}", xyz.y);
         let [x, y] = chromaticity(xyz);
-        assert!(
-            (x - 1.0 / 3.0).abs() < 1e-3 && (y - 1.0 / 3.0).abs() < 1e-3,
-            "({x}, {y})"
-        );
+        assert!((x - 1.0 / 3.0).abs() < 1e-3 && (y - 1.0 / 3.0).abs() < 1e-3, "({x}, {y})");
     }
 
     /// The Monte Carlo estimator of `to_xyz` over `sample_visible` draws (seeded) converges to the
@@ -172,10 +163,7 @@ mod tests {
             assert!(worst_se < 5e-3, "count {count}: standard error {worst_se}");
             standard_errors.push(worst_se);
         }
-        assert!(
-            standard_errors[1] < standard_errors[0],
-            "{standard_errors:?}"
-        );
+        assert!(standard_errors[1] < standard_errors[0], "{standard_errors:?}");
     }
 
     /// With evenly spaced u (u_k = (k + ½)/n) the estimator is a deterministic quadrature of the
@@ -192,10 +180,7 @@ mod tests {
             sum += to_xyz(&wavelengths.active_mask(), &wavelengths);
         }
         let mean = sum / SAMPLES as f32;
-        assert!(
-            (mean - exact).abs().max_element() < 1e-4,
-            "{mean} vs {exact}"
-        );
+        assert!((mean - exact).abs().max_element() < 1e-4, "{mean} vs {exact}");
     }
 
     /// In monochromatic mode there is no wavelength integral: the film shows lane 0's value grey.

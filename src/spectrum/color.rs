@@ -51,19 +51,14 @@ pub(crate) const fn rgb_to_xyz_rows() -> [[f64; 3]; 3] {
     let red = xyz_at_unit_y(PRIMARIES_XY[0]);
     let green = xyz_at_unit_y(PRIMARIES_XY[1]);
     let blue = xyz_at_unit_y(PRIMARIES_XY[2]);
-    let primaries = [
-        [red[0], green[0], blue[0]],
-        [red[1], green[1], blue[1]],
-        [red[2], green[2], blue[2]],
-    ];
+    let primaries = [[red[0], green[0], blue[0]], [red[1], green[1], blue[1]], [red[2], green[2], blue[2]]];
     let inverse = inverse_3x3(primaries);
     let white = xyz_at_unit_y(D65_WHITE_XY_F64);
     // Channel gains that make RGB (1, 1, 1) land on the white: gains = primaries⁻¹ · white.
     let mut gains = [0.0; 3];
     let mut row = 0;
     while row < 3 {
-        gains[row] =
-            inverse[row][0] * white[0] + inverse[row][1] * white[1] + inverse[row][2] * white[2];
+        gains[row] = inverse[row][0] * white[0] + inverse[row][1] * white[1] + inverse[row][2] * white[2];
         row += 1;
     }
     let mut out = [[0.0; 3]; 3];
@@ -148,10 +143,7 @@ mod tests {
             let rgb = xyz_to_linear_srgb(xyz_from_xy_luminance([x as f32, y as f32], luminance));
             let mut expected = Vec3::ZERO;
             expected[channel] = 1.0;
-            assert!(
-                (rgb - expected).abs().max_element() < 1e-3,
-                "channel {channel}: {rgb}"
-            );
+            assert!((rgb - expected).abs().max_element() < 1e-3, "channel {channel}: {rgb}");
         }
     }
 
@@ -159,9 +151,8 @@ mod tests {
     /// are inverses of each other.
     #[test]
     fn matrices_match_iec_61966_2_1() {
-        let published_rgb_to_xyz = Mat3::from_cols_array(&[
-            0.4124, 0.2126, 0.0193, 0.3576, 0.7152, 0.1192, 0.1805, 0.0722, 0.9505,
-        ]);
+        let published_rgb_to_xyz =
+            Mat3::from_cols_array(&[0.4124, 0.2126, 0.0193, 0.3576, 0.7152, 0.1192, 0.1805, 0.0722, 0.9505]);
         let published_xyz_to_rgb = Mat3::from_cols_array(&[
             3.2406, -0.9689, 0.0557, -1.5372, 1.8758, -0.2040, -0.4986, 0.0415, 1.0570,
         ]);
@@ -169,12 +160,7 @@ mod tests {
         assert!(XYZ_TO_LINEAR_SRGB.abs_diff_eq(published_xyz_to_rgb, 1e-3));
         assert!((XYZ_TO_LINEAR_SRGB * LINEAR_SRGB_TO_XYZ).abs_diff_eq(Mat3::IDENTITY, 1e-6));
         let rgb = Vec3::new(0.2, 0.5, 0.9);
-        assert!(
-            (xyz_to_linear_srgb(linear_srgb_to_xyz(rgb)) - rgb)
-                .abs()
-                .max_element()
-                < 1e-6
-        );
+        assert!((xyz_to_linear_srgb(linear_srgb_to_xyz(rgb)) - rgb).abs().max_element() < 1e-6);
     }
 
     /// The two pieces of the transfer function meet at 0.0031308 (value 0.04045), and the curve

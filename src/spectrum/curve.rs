@@ -59,11 +59,7 @@ enum Kind {
     D65,
     /// Planck's law at `temperature_k`, divided by its value at `reference_nm` (its maximum over
     /// 360–830 nm, so no value overflows) and multiplied by `exp(log_norm)` (Y = 1).
-    Blackbody {
-        temperature_k: f64,
-        reference_nm: f64,
-        log_norm: f64,
-    },
+    Blackbody { temperature_k: f64, reference_nm: f64, log_norm: f64 },
 }
 
 /// A spectral quantity (reflectance, radiance, intensity, absorption...) as a function of
@@ -123,10 +119,7 @@ impl Spectrum {
     /// The same `value` at every wavelength. (A non-finite value is not rejected here: the scene
     /// builder validates numbers it reads.)
     pub fn constant(value: f32) -> Self {
-        Self {
-            kind: Kind::Constant,
-            scale: value,
-        }
+        Self { kind: Kind::Constant, scale: value }
     }
     /// Piecewise-linear through `(lambda_nm, value)` points, strictly increasing in λ, values finite;
     /// held constant beyond the end points.
@@ -155,10 +148,7 @@ impl Spectrum {
                 )));
             }
         }
-        Ok(Self {
-            kind: Kind::Table(points.into()),
-            scale: 1.0,
-        })
+        Ok(Self { kind: Kind::Table(points.into()), scale: 1.0 })
     }
     /// A smooth reflectance spectrum whose colour (under D65) is the linear sRGB `rgb`, each
     /// component in [0, 1].
@@ -179,10 +169,7 @@ impl Spectrum {
             return Ok(Self::constant(rgb[0]));
         }
         let fit = fit_reflectance(Vec3::from_array(rgb));
-        Ok(Self {
-            kind: Kind::Sigmoid(fit.polynomial),
-            scale: 1.0,
-        })
+        Ok(Self { kind: Kind::Sigmoid(fit.polynomial), scale: 1.0 })
     }
     /// An emission spectrum whose colour is the linear sRGB `rgb` (components ≥ 0): a smooth
     /// spectrum times D65 normalised to Y = 1, so (1, 1, 1) appears as (1, 1, 1).
@@ -208,10 +195,7 @@ impl Spectrum {
         let scale = 2.0 * max_component;
         let target = Vec3::from_array(rgb) / (scale * d65_white_gains());
         let fit = fit_reflectance(target);
-        Ok(Self {
-            kind: Kind::SigmoidTimesD65(fit.polynomial),
-            scale,
-        })
+        Ok(Self { kind: Kind::SigmoidTimesD65(fit.polynomial), scale })
     }
     /// A named CIE illuminant normalised to Y = 1: `"D65"` or `"E"` (equal energy).
     pub fn named_illuminant(name: &str) -> Result<Self, SpectrumError> {
@@ -219,10 +203,7 @@ impl Spectrum {
             "D65" => {
                 // Parse and normalise now, not on the first evaluation during rendering.
                 d65_table_luminance();
-                Ok(Self {
-                    kind: Kind::D65,
-                    scale: 1.0,
-                })
+                Ok(Self { kind: Kind::D65, scale: 1.0 })
             }
             // ∫ 1·ȳ dλ / ∫ ȳ dλ = 1: the constant 1 is already normalised.
             "E" => Ok(Self::constant(1.0)),
@@ -251,11 +232,7 @@ impl Spectrum {
         })
         .y;
         Ok(Self {
-            kind: Kind::Blackbody {
-                temperature_k,
-                reference_nm,
-                log_norm: -f64::from(luminance).ln(),
-            },
+            kind: Kind::Blackbody { temperature_k, reference_nm, log_norm: -f64::from(luminance).ln() },
             scale: 1.0,
         })
     }
@@ -271,24 +248,17 @@ impl Spectrum {
             Kind::Constant => 1.0,
             Kind::Table(points) => eval_table(points, lambda_nm),
             Kind::Sigmoid(polynomial) => polynomial.eval(lambda_nm),
-            Kind::SigmoidTimesD65(polynomial) => {
-                polynomial.eval(lambda_nm) * d65_normalised(lambda_nm)
-            }
+            Kind::SigmoidTimesD65(polynomial) => polynomial.eval(lambda_nm) * d65_normalised(lambda_nm),
             Kind::D65 => d65_normalised(lambda_nm),
-            Kind::Blackbody {
-                temperature_k,
-                reference_nm,
-                log_norm,
-            } => (log_norm + planck_log_ratio(f64::from(lambda_nm), *reference_nm, *temperature_k))
-                .exp() as f32,
+            Kind::Blackbody { temperature_k, reference_nm, log_norm } => (log_norm
+                + planck_log_ratio(f64::from(lambda_nm), *reference_nm, *temperature_k))
+            .exp() as f32,
         };
         self.scale * unscaled
     }
     /// Values at every lane of `wavelengths` (inactive lanes may hold anything finite).
     pub fn sample(&self, wavelengths: &SampledWavelengths) -> SampledSpectrum {
-        SampledSpectrum {
-            values: std::array::from_fn(|i| self.eval(wavelengths.lambda_nm(i))),
-        }
+        SampledSpectrum { values: std::array::from_fn(|i| self.eval(wavelengths.lambda_nm(i))) }
     }
     /// True when the value is the same at every wavelength.
     pub fn is_constant(&self) -> bool {
@@ -360,8 +330,7 @@ mod tests {
     /// A table interpolates linearly between its points and holds its end values beyond them.
     #[test]
     fn table_interpolates_and_extrapolates_constantly() {
-        let spectrum =
-            Spectrum::table(&[(400.0, 1.0), (500.0, 3.0), (600.0, 2.0)]).expect("valid table");
+        let spectrum = Spectrum::table(&[(400.0, 1.0), (500.0, 3.0), (600.0, 2.0)]).expect("valid table");
         assert_eq!(spectrum.eval(450.0), 2.0);
         assert_eq!(spectrum.eval(500.0), 3.0);
         assert_eq!(spectrum.eval(575.0), 2.25);
@@ -382,10 +351,7 @@ mod tests {
         let m = message(Spectrum::table(&[(f32::INFINITY, 1.0)]));
         assert!(m.contains("point 0") && m.contains("inf"), "{m}");
         let m = message(Spectrum::table(&[(400.0, 1.0), (500.0, 1.0), (500.0, 2.0)]));
-        assert!(
-            m.contains("point 2") && m.contains("500 nm") && m.contains("strictly increase"),
-            "{m}"
-        );
+        assert!(m.contains("point 2") && m.contains("500 nm") && m.contains("strictly increase"), "{m}");
     }
 
     /// An RGB reflectance reproduces its colour under D65, both through the fit's own colour
@@ -411,10 +377,7 @@ mod tests {
     #[test]
     fn rgb_reflectance_rejects_out_of_range_components() {
         let m = message(Spectrum::rgb_reflectance([0.5, 1.2, 0.5]));
-        assert!(
-            m.contains("green") && m.contains("1.2") && m.contains("[0, 1]"),
-            "{m}"
-        );
+        assert!(m.contains("green") && m.contains("1.2") && m.contains("[0, 1]"), "{m}");
         assert!(message(Spectrum::rgb_reflectance([-0.1, 0.5, 0.5])).contains("red"));
         assert!(message(Spectrum::rgb_reflectance([0.5, 0.5, f32::NAN])).contains("blue"));
     }
@@ -423,21 +386,13 @@ mod tests {
     /// was made from; white (1, 1, 1) is D65-like at unit luminance; HDR values work; black is 0.
     #[test]
     fn rgb_illuminant_round_trips() {
-        for rgb in [
-            [1.0, 1.0, 1.0],
-            [0.2, 0.5, 0.9],
-            [4.0, 2.0, 0.5],
-            [0.0, 0.0, 3.0],
-        ] {
+        for rgb in [[1.0, 1.0, 1.0], [0.2, 0.5, 0.9], [4.0, 2.0, 0.5], [0.0, 0.0, 3.0]] {
             let spectrum = Spectrum::rgb_illuminant(rgb).expect("valid emission");
             let back = xyz_to_linear_srgb(xyz(&spectrum));
             let target = Vec3::from_array(rgb);
             // Measured ≤ 2e-7 relative; the bound leaves room for f32 rounding only.
             let tolerance = 1e-4 * target.max_element();
-            assert!(
-                (back - target).abs().max_element() < tolerance,
-                "{target} → {back}"
-            );
+            assert!((back - target).abs().max_element() < tolerance, "{target} → {back}");
         }
         let white = Spectrum::rgb_illuminant([1.0; 3]).expect("valid emission");
         assert_close(xyz(&white).y, 1.0, 1e-4, "Y of RGB white emission");
@@ -476,8 +431,7 @@ mod tests {
     /// 4–5 digits.
     #[test]
     fn blackbody_chromaticities_match_published_values() {
-        for (temperature_k, expected_x, expected_y) in
-            [(2856.0, 0.44757, 0.40745), (6504.0, 0.3135, 0.3236)]
+        for (temperature_k, expected_x, expected_y) in [(2856.0, 0.44757, 0.40745), (6504.0, 0.3135, 0.3236)]
         {
             let spectrum = Spectrum::blackbody(temperature_k).expect("valid temperature");
             let blackbody_xyz = xyz(&spectrum);
@@ -497,8 +451,7 @@ mod tests {
         let peak = spectrum.eval(579.55);
         assert!(peak > spectrum.eval(578.0) && peak > spectrum.eval(581.0));
         let planck = |lambda_nm: f64| {
-            lambda_nm.powi(-5)
-                / ((SECOND_RADIATION_CONSTANT_NM_K / (lambda_nm * 5000.0)).exp() - 1.0)
+            lambda_nm.powi(-5) / ((SECOND_RADIATION_CONSTANT_NM_K / (lambda_nm * 5000.0)).exp() - 1.0)
         };
         let expected_ratio = (planck(450.0) / planck(700.0)) as f32;
         assert_close(
@@ -514,16 +467,8 @@ mod tests {
     fn blackbody_handles_extreme_and_invalid_temperatures() {
         for temperature_k in [1.0, 100.0, 1e6, 1e9] {
             let spectrum = Spectrum::blackbody(temperature_k).expect("valid temperature");
-            assert!(
-                (360..=830).all(|l| spectrum.eval(l as f32).is_finite()),
-                "{temperature_k} K"
-            );
-            assert_close(
-                xyz(&spectrum).y,
-                1.0,
-                1e-4,
-                &format!("Y at {temperature_k} K"),
-            );
+            assert!((360..=830).all(|l| spectrum.eval(l as f32).is_finite()), "{temperature_k} K");
+            assert_close(xyz(&spectrum).y, 1.0, 1e-4, &format!("Y at {temperature_k} K"));
         }
         for temperature_k in [0.0, -300.0, f32::NAN, f32::INFINITY] {
             let m = message(Spectrum::blackbody(temperature_k));

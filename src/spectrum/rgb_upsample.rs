@@ -68,11 +68,7 @@ fn sigmoid_and_slope_f64(z: f64) -> (f64, f64) {
     let one_plus_z2 = 1.0 + z * z;
     let root = one_plus_z2.sqrt();
     let lower_tail = 0.5 / (root * (root + z.abs()));
-    let value = if z >= 0.0 {
-        1.0 - lower_tail
-    } else {
-        lower_tail
-    };
+    let value = if z >= 0.0 { 1.0 - lower_tail } else { lower_tail };
     (value, 0.5 / (one_plus_z2 * root))
 }
 
@@ -96,9 +92,7 @@ impl SigmoidPolynomial {
         debug_assert!((0.0..=1.0).contains(&value), "constant reflectance {value}");
         // Inverse of S: z = (2v − 1) / (2√(v(1 − v))).
         let c2 = (2.0 * value - 1.0) / (2.0 * (value * (1.0 - value)).sqrt());
-        Self {
-            coefficients: [0.0, 0.0, c2],
-        }
+        Self { coefficients: [0.0, 0.0, c2] }
     }
     /// The coefficients (c0, c1, c2) of x², x and 1, with x = (λ − 595 nm) / 235 nm.
     pub fn coefficients(&self) -> [f32; 3] {
@@ -152,38 +146,26 @@ fn fit_tables() -> &'static FitTables {
         let d65 = d65_table();
         let rgb_to_xyz = rgb_to_xyz_rows();
         let xyz_to_rgb = inverse_3x3(rgb_to_xyz);
-        let d65_y: f64 = (0..GRID_LEN)
-            .map(|i| trapezoid_weight_nm(i) * d65[i] as f64 * cmf[i].y as f64)
-            .sum();
+        let d65_y: f64 =
+            (0..GRID_LEN).map(|i| trapezoid_weight_nm(i) * d65[i] as f64 * cmf[i].y as f64).sum();
         let raw: Vec<[f64; 3]> = (0..GRID_LEN)
             .map(|i| {
                 let weight = trapezoid_weight_nm(i) * d65[i] as f64 / d65_y;
-                [
-                    cmf[i].x as f64 * weight,
-                    cmf[i].y as f64 * weight,
-                    cmf[i].z as f64 * weight,
-                ]
+                [cmf[i].x as f64 * weight, cmf[i].y as f64 * weight, cmf[i].z as f64 * weight]
             })
             .collect();
-        let raw_white_xyz = raw.iter().fold([0.0; 3], |acc, w| {
-            [acc[0] + w[0], acc[1] + w[1], acc[2] + w[2]]
-        });
+        let raw_white_xyz = raw.iter().fold([0.0; 3], |acc, w| [acc[0] + w[0], acc[1] + w[1], acc[2] + w[2]]);
         let white_gains = mat_vec(&xyz_to_rgb, raw_white_xyz);
         // weights = M · diag(1/gains) · M⁻¹ · raw, so that Σ weights = M · (1, 1, 1).
         let weights_xyz = raw
             .iter()
             .map(|&w| {
                 let rgb = mat_vec(&xyz_to_rgb, w);
-                mat_vec(
-                    &rgb_to_xyz,
-                    std::array::from_fn(|c| rgb[c] / white_gains[c]),
-                )
+                mat_vec(&rgb_to_xyz, std::array::from_fn(|c| rgb[c] / white_gains[c]))
             })
             .collect();
         FitTables {
-            x: (0..GRID_LEN)
-                .map(|i| normalised_wavelength(grid_lambda_nm(i)) as f64)
-                .collect(),
+            x: (0..GRID_LEN).map(|i| normalised_wavelength(grid_lambda_nm(i)) as f64).collect(),
             weights_xyz,
             white_gains,
             rgb_to_xyz,
@@ -236,11 +218,7 @@ fn lab_and_jacobian(xyz: [f64; 3], white_xyz: [f64; 3]) -> ([f64; 3], [[f64; 3];
     let (dx, dy, dz) = (dfx / white_xyz[0], dfy / white_xyz[1], dfz / white_xyz[2]);
     (
         [116.0 * fy - 16.0, 500.0 * (fx - fy), 200.0 * (fy - fz)],
-        [
-            [0.0, 116.0 * dy, 0.0],
-            [500.0 * dx, -500.0 * dy, 0.0],
-            [0.0, 200.0 * dy, -200.0 * dz],
-        ],
+        [[0.0, 116.0 * dy, 0.0], [500.0 * dx, -500.0 * dy, 0.0], [0.0, 200.0 * dy, -200.0 * dz]],
     )
 }
 
@@ -280,8 +258,7 @@ fn norm_squared(v: [f64; 3]) -> f64 {
 /// Solves the 3×3 system `a·x = b` by Cramer's rule; `None` when (nearly) singular.
 fn solve_3x3(a: [[f64; 3]; 3], b: [f64; 3]) -> Option<[f64; 3]> {
     let det = |m: [[f64; 3]; 3]| {
-        m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
-            - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+        m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
             + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
     };
     let det_a = det(a);
@@ -303,11 +280,7 @@ fn solve_3x3(a: [[f64; 3]; 3], b: [f64; 3]) -> Option<[f64; 3]> {
 /// Levenberg–Marquardt (Marquardt's diagonal scaling) from `start` towards `target_lab`, until
 /// the residual is below [`CONVERGED_DELTA_E`] or [`MAX_EVALUATIONS`] are spent; returns the
 /// final coefficients and residual norm (ΔE).
-fn levenberg_marquardt(
-    tables: &FitTables,
-    start: [f64; 3],
-    target_lab: [f64; 3],
-) -> ([f64; 3], f64) {
+fn levenberg_marquardt(tables: &FitTables, start: [f64; 3], target_lab: [f64; 3]) -> ([f64; 3], f64) {
     let mut coefficients = start;
     let (mut residual, mut jacobian) = residual_and_jacobian(tables, coefficients, target_lab);
     let mut cost = norm_squared(residual);
@@ -329,11 +302,9 @@ fn levenberg_marquardt(
             damping *= 10.0;
             continue;
         };
-        let candidate: [f64; 3] = std::array::from_fn(|k| {
-            (coefficients[k] + step[k]).clamp(-MAX_COEFFICIENT, MAX_COEFFICIENT)
-        });
-        let (candidate_residual, candidate_jacobian) =
-            residual_and_jacobian(tables, candidate, target_lab);
+        let candidate: [f64; 3] =
+            std::array::from_fn(|k| (coefficients[k] + step[k]).clamp(-MAX_COEFFICIENT, MAX_COEFFICIENT));
+        let (candidate_residual, candidate_jacobian) = residual_and_jacobian(tables, candidate, target_lab);
         evaluations += 1;
         let candidate_cost = norm_squared(candidate_residual);
         if candidate_cost < cost {
@@ -363,25 +334,17 @@ pub fn fit_reflectance(rgb: Vec3) -> SigmoidFit {
         };
     }
     let tables = fit_tables();
-    let target_xyz = mat_vec(
-        &tables.rgb_to_xyz,
-        [rgb.x as f64, rgb.y as f64, rgb.z as f64],
-    );
+    let target_xyz = mat_vec(&tables.rgb_to_xyz, [rgb.x as f64, rgb.y as f64, rgb.z as f64]);
     let target_lab = lab_and_jacobian(target_xyz, tables.white_xyz).0;
     // Start from the grey of the target's luminance (kept inside (0, 1) so c2 is finite).
     let grey = (target_xyz[1] / tables.white_xyz[1]).clamp(1e-3, 1.0 - 1e-3);
     let grey_c2 = (2.0 * grey - 1.0) / (2.0 * (grey * (1.0 - grey)).sqrt());
     let (coefficients, _) = levenberg_marquardt(tables, [0.0, 0.0, grey_c2], target_lab);
-    let polynomial = SigmoidPolynomial {
-        coefficients: coefficients.map(|c| c as f32),
-    };
+    let polynomial = SigmoidPolynomial { coefficients: coefficients.map(|c| c as f32) };
     // Report the residual of the f32 coefficients actually used.
     let used = polynomial.coefficients.map(f64::from);
     let residual_delta_e = norm_squared(residual_and_jacobian(tables, used, target_lab).0).sqrt();
-    SigmoidFit {
-        polynomial,
-        residual_delta_e: residual_delta_e as f32,
-    }
+    SigmoidFit { polynomial, residual_delta_e: residual_delta_e as f32 }
 }
 
 #[cfg(test)]
@@ -397,9 +360,7 @@ mod tests {
     fn value_range(polynomial: &SigmoidPolynomial) -> (f32, f32) {
         (0..=940)
             .map(|k| polynomial.eval(360.0 + 0.5 * k as f32))
-            .fold((f32::INFINITY, f32::NEG_INFINITY), |(low, high), v| {
-                (low.min(v), high.max(v))
-            })
+            .fold((f32::INFINITY, f32::NEG_INFINITY), |(low, high), v| (low.min(v), high.max(v)))
     }
 
     /// S(0) = 1/2, S(−z) = 1 − S(z), the limits are exactly 0 and 1, and the far tail keeps its
@@ -423,18 +384,8 @@ mod tests {
     /// a hair off the sRGB white (0.3127, 0.3290).
     #[test]
     fn unit_reflectance_is_white() {
-        assert!(
-            (reflectance_linear_srgb(|_| 1.0) - Vec3::ONE)
-                .abs()
-                .max_element()
-                < 1e-6
-        );
-        assert!(
-            (reflectance_linear_srgb(|_| 0.5) - Vec3::splat(0.5))
-                .abs()
-                .max_element()
-                < 1e-6
-        );
+        assert!((reflectance_linear_srgb(|_| 1.0) - Vec3::ONE).abs().max_element() < 1e-6);
+        assert!((reflectance_linear_srgb(|_| 0.5) - Vec3::splat(0.5)).abs().max_element() < 1e-6);
         assert!((d65_white_gains() - Vec3::ONE).abs().max_element() < 3e-4);
     }
 
@@ -446,10 +397,7 @@ mod tests {
             assert!(fit.polynomial.is_constant());
             assert_eq!(fit.residual_delta_e, 0.0);
             let (low, high) = value_range(&fit.polynomial);
-            assert!(
-                (low - value).abs() < 1e-6 && (high - value).abs() < 1e-6,
-                "{value}"
-            );
+            assert!((low - value).abs() < 1e-6 && (high - value).abs() < 1e-6, "{value}");
         }
         assert_eq!(fit_reflectance(Vec3::ZERO).polynomial.eval(555.0), 0.0);
         assert_eq!(fit_reflectance(Vec3::ONE).polynomial.eval(555.0), 1.0);
@@ -494,18 +442,9 @@ mod tests {
     /// towards long wavelengths, blue towards short ones, green peaks in the middle).
     #[test]
     fn primaries_and_secondaries_are_reachable() {
-        for rgb in [
-            Vec3::X,
-            Vec3::Y,
-            Vec3::Z,
-            Vec3::new(1.0, 1.0, 0.0),
-            Vec3::new(0.0, 1.0, 1.0),
-        ] {
+        for rgb in [Vec3::X, Vec3::Y, Vec3::Z, Vec3::new(1.0, 1.0, 0.0), Vec3::new(0.0, 1.0, 1.0)] {
             let fit = fit_reflectance(rgb);
-            assert!(
-                (round_trip(&fit) - rgb).abs().max_element() < 1e-5,
-                "{rgb}: {fit:?}"
-            );
+            assert!((round_trip(&fit) - rgb).abs().max_element() < 1e-5, "{rgb}: {fit:?}");
             assert!(fit.residual_delta_e < 1e-4, "{rgb}: {fit:?}");
         }
         let red = fit_reflectance(Vec3::X).polynomial;

@@ -13,9 +13,7 @@ pub struct SampledSpectrum {
 impl SampledSpectrum {
     /// All lanes set to `value`.
     pub const fn splat(value: f32) -> Self {
-        Self {
-            values: [value; N_LAMBDA],
-        }
+        Self { values: [value; N_LAMBDA] }
     }
     /// All lanes zero.
     pub const fn zero() -> Self {
@@ -24,17 +22,12 @@ impl SampledSpectrum {
     /// Lane-wise map.
     #[inline]
     pub fn map(self, f: impl Fn(f32) -> f32) -> Self {
-        Self {
-            values: self.values.map(f),
-        }
+        Self { values: self.values.map(f) }
     }
     /// Largest lane value.
     #[inline]
     pub fn max_value(&self) -> f32 {
-        self.values
-            .iter()
-            .copied()
-            .fold(f32::NEG_INFINITY, f32::max)
+        self.values.iter().copied().fold(f32::NEG_INFINITY, f32::max)
     }
     /// True when every lane is exactly zero.
     #[inline]
@@ -64,9 +57,7 @@ impl std::ops::Add for SampledSpectrum {
     type Output = Self;
     #[inline]
     fn add(self, rhs: Self) -> Self {
-        Self {
-            values: std::array::from_fn(|i| self.values[i] + rhs.values[i]),
-        }
+        Self { values: std::array::from_fn(|i| self.values[i] + rhs.values[i]) }
     }
 }
 impl std::ops::AddAssign for SampledSpectrum {
@@ -79,18 +70,14 @@ impl std::ops::Sub for SampledSpectrum {
     type Output = Self;
     #[inline]
     fn sub(self, rhs: Self) -> Self {
-        Self {
-            values: std::array::from_fn(|i| self.values[i] - rhs.values[i]),
-        }
+        Self { values: std::array::from_fn(|i| self.values[i] - rhs.values[i]) }
     }
 }
 impl std::ops::Mul for SampledSpectrum {
     type Output = Self;
     #[inline]
     fn mul(self, rhs: Self) -> Self {
-        Self {
-            values: std::array::from_fn(|i| self.values[i] * rhs.values[i]),
-        }
+        Self { values: std::array::from_fn(|i| self.values[i] * rhs.values[i]) }
     }
 }
 impl std::ops::MulAssign for SampledSpectrum {

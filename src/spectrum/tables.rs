@@ -55,13 +55,10 @@ pub(crate) fn grid_position(lambda_nm: f32) -> Option<(usize, usize, f32)> {
 pub(crate) fn cmf_table() -> &'static [Vec3] {
     static TABLE: OnceLock<Vec<Vec3>> = OnceLock::new();
     TABLE.get_or_init(|| {
-        parse_grid::<3>(
-            "data/cie1931_2deg.csv",
-            include_str!("../../data/cie1931_2deg.csv"),
-        )
-        .into_iter()
-        .map(Vec3::from_array)
-        .collect()
+        parse_grid::<3>("data/cie1931_2deg.csv", include_str!("../../data/cie1931_2deg.csv"))
+            .into_iter()
+            .map(Vec3::from_array)
+            .collect()
     })
 }
 
@@ -93,13 +90,12 @@ fn parse_grid<const C: usize>(file: &str, text: &str) -> Vec<[f32; C]> {
             continue;
         }
         let mut fields = line.split(',').map(|field| {
-            field.trim().parse::<f32>().unwrap_or_else(|err| {
-                panic!("{file}:{line_no}: field {field:?} is not a number ({err})")
-            })
+            field
+                .trim()
+                .parse::<f32>()
+                .unwrap_or_else(|err| panic!("{file}:{line_no}: field {field:?} is not a number ({err})"))
         });
-        let lambda_nm = fields
-            .next()
-            .unwrap_or_else(|| panic!("{file}:{line_no}: empty row"));
+        let lambda_nm = fields.next().unwrap_or_else(|| panic!("{file}:{line_no}: empty row"));
         let expected_nm = grid_lambda_nm(rows.len());
         assert!(
             lambda_nm == expected_nm,
@@ -110,23 +106,12 @@ fn parse_grid<const C: usize>(file: &str, text: &str) -> Vec<[f32; C]> {
             *value = fields
                 .next()
                 .unwrap_or_else(|| panic!("{file}:{line_no}: missing value column {}", column + 1));
-            assert!(
-                value.is_finite(),
-                "{file}:{line_no}: non-finite value {value}"
-            );
+            assert!(value.is_finite(), "{file}:{line_no}: non-finite value {value}");
         }
-        assert!(
-            fields.next().is_none(),
-            "{file}:{line_no}: more than {} value columns",
-            C
-        );
+        assert!(fields.next().is_none(), "{file}:{line_no}: more than {} value columns", C);
         rows.push(values);
     }
-    assert!(
-        rows.len() == GRID_LEN,
-        "{file}: {} rows, expected {GRID_LEN} (360–830 nm at 1 nm)",
-        rows.len()
-    );
+    assert!(rows.len() == GRID_LEN, "{file}: {} rows, expected {GRID_LEN} (360–830 nm at 1 nm)", rows.len());
     rows
 }
 

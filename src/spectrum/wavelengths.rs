@@ -53,8 +53,7 @@ pub fn visible_pdf_per_nm(lambda_nm: f32) -> f32 {
 pub fn sample_visible_lambda_nm(u: f32) -> f32 {
     debug_assert!((0.0..=1.0).contains(&u), "u = {u} outside [0, 1]");
     let (tanh_min, tanh_max) = *VISIBLE_TANH_BOUNDS;
-    let lambda_nm =
-        VISIBLE_CENTRE_NM + (tanh_min + u * (tanh_max - tanh_min)).atanh() / VISIBLE_RATE_PER_NM;
+    let lambda_nm = VISIBLE_CENTRE_NM + (tanh_min + u * (tanh_max - tanh_min)).atanh() / VISIBLE_RATE_PER_NM;
     // f32 rounding in tanh/atanh can land a hair outside the range at u = 0 or 1.
     lambda_nm.clamp(LAMBDA_MIN_NM, LAMBDA_MAX_NM)
 }
@@ -75,10 +74,7 @@ impl SampledWavelengths {
     /// wavelength and `count - 1` stratified rotations of it, all importance-sampled over
     /// 360–830 nm. Panics if `count` is 0 or larger than `N_LAMBDA`.
     pub fn sample_visible(u: f32, count: usize) -> Self {
-        assert!(
-            (1..=N_LAMBDA).contains(&count),
-            "wavelength count {count} outside 1..={N_LAMBDA}"
-        );
+        assert!((1..=N_LAMBDA).contains(&count), "wavelength count {count} outside 1..={N_LAMBDA}");
         debug_assert!((0.0..1.0).contains(&u), "u = {u} outside [0, 1)");
         let mut lambda_nm = [0.0; N_LAMBDA];
         let mut pdf_per_nm = [0.0; N_LAMBDA];
@@ -91,12 +87,7 @@ impl SampledWavelengths {
         // their zero pdf keeps them out of the film.
         let hero_nm = lambda_nm[0];
         lambda_nm[count..].fill(hero_nm);
-        Self {
-            lambda_nm,
-            pdf_per_nm,
-            active: count,
-            monochromatic: false,
-        }
+        Self { lambda_nm, pdf_per_nm, active: count, monochromatic: false }
     }
     /// A single fixed wavelength (lane 0 only, pdf 1): the `--wavelength` monochromatic mode.
     pub fn monochromatic(lambda_nm: f32) -> Self {
@@ -104,12 +95,7 @@ impl SampledWavelengths {
         lambda[0] = lambda_nm;
         let mut pdf = [0.0; N_LAMBDA];
         pdf[0] = 1.0;
-        Self {
-            lambda_nm: lambda,
-            pdf_per_nm: pdf,
-            active: 1,
-            monochromatic: true,
-        }
+        Self { lambda_nm: lambda, pdf_per_nm: pdf, active: 1, monochromatic: true }
     }
     /// Wavelength of lane `i`, in nm.
     #[inline]
@@ -134,9 +120,7 @@ impl SampledWavelengths {
     /// 1 on active lanes, 0 on the others: the starting throughput of a camera ray.
     #[inline]
     pub fn active_mask(&self) -> SampledSpectrum {
-        SampledSpectrum {
-            values: std::array::from_fn(|i| if i < self.active { 1.0 } else { 0.0 }),
-        }
+        SampledSpectrum { values: std::array::from_fn(|i| if i < self.active { 1.0 } else { 0.0 }) }
     }
 }
 
@@ -148,9 +132,8 @@ mod tests {
     /// Composite Simpson's rule of `f` over [a, b] with `intervals` (even) sub-intervals.
     fn simpson(f: impl Fn(f64) -> f64, a: f64, b: f64, intervals: usize) -> f64 {
         let h = (b - a) / intervals as f64;
-        let inner: f64 = (1..intervals)
-            .map(|i| if i % 2 == 1 { 4.0 } else { 2.0 } * f(a + i as f64 * h))
-            .sum();
+        let inner: f64 =
+            (1..intervals).map(|i| if i % 2 == 1 { 4.0 } else { 2.0 } * f(a + i as f64 * h)).sum();
         (f(a) + inner + f(b)) * h / 3.0
     }
 
@@ -192,12 +175,7 @@ mod tests {
         assert!((sample_visible_lambda_nm(1.0) - 830.0).abs() < 1e-3);
         for u in [0.05, 0.25, 0.5, 0.75, 0.95] {
             let lambda_nm = sample_visible_lambda_nm(u) as f64;
-            let cdf = simpson(
-                |l| visible_pdf_per_nm(l as f32) as f64,
-                360.0,
-                lambda_nm,
-                2000,
-            );
+            let cdf = simpson(|l| visible_pdf_per_nm(l as f32) as f64, 360.0, lambda_nm, 2000);
             assert!((cdf - u as f64).abs() < 1e-5, "u = {u}: CDF(λ(u)) = {cdf}");
         }
     }
@@ -247,12 +225,7 @@ mod tests {
         }
         for (bin, &count) in counts.iter().enumerate() {
             let start_nm = 360.0 + 10.0 * bin as f64;
-            let probability = simpson(
-                |l| visible_pdf_per_nm(l as f32) as f64,
-                start_nm,
-                start_nm + 10.0,
-                20,
-            );
+            let probability = simpson(|l| visible_pdf_per_nm(l as f32) as f64, start_nm, start_nm + 10.0, 20);
             let expected = probability * SAMPLES as f64;
             let sigma = (expected * (1.0 - probability)).sqrt();
             assert!(

@@ -1,0 +1,349 @@
+//! `prisma fresnel`: Fresnel reflectance curves (Rs, Rp, R against the angle of incidence, from
+//! outside and from inside) as CSV and plots, and plots of Mitsuba fixtures with prisma's curves
+//! overlaid.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use anyhow::{anyhow, bail, Context};
+use clap::Args;
+use num_complex::Complex32;
+
+use super::plot::{write_chart, Marker, Panel, Series, Style, PALETTE};
+use super::CliError;
+use prisma::optics::catalogue;
+use prisma::optics::conductor::fresnel_conductor;
+use prisma::optics::fresnel::fresnel_dielectric_amplitudes;
+use prisma::optics::{fresnel_dielectric, metals, Ior};
+
+/// Arguments of `prisma fresnel`.
+#[derive(Debug, Args)]
+pub struct FresnelArgs {
+    /// The interface: a number (1.5), a named glass (N-BK7), `cauchy:A,B,C` (λ in µm),
+    /// `sellmeier:B1,B2,B3,C1,C2,C3` (C in µm²), a metal (Ag, Al, Au, Cu) or a complex index
+    /// `n+ki` (e.g. 0.05+4.2i).
+    #[arg(long, value_name = "SPEC", required_unless_present = "fixture", conflicts_with = "fixture")]
+    ior: Option<String>,
+    /// Wavelength in nm at which a dispersive IOR or a metal is evaluated.
+    #[arg(long, value_name = "NM", default_value_t = 587.56)]
+    wavelength: f32,
+    /// Write the curves as CSV (angle in degrees, Rs, Rp, R from outside and inside).
+    #[arg(short, long, value_name = "curves.csv")]
+    output: Option<PathBuf>,
+    /// Plot the curves (.svg or .png).
+    #[arg(long, value_name = "curves.svg|png")]
+    plot: Option<PathBuf>,
+    /// Plot a Mitsuba fixture from tests/fixtures/ with prisma's curves overlaid, and print the
+    /// largest difference.
+    #[arg(long, value_name = "FILE.csv")]
+    fixture: Option<PathBuf>,
+}
+
+/// The interface whose curves are drawn.
+enum Interface {
+    /// A dielectric of relative index n (to vacuum).
+    Dielectric { n: f32, label: String },
+    /// A conductor of complex index n + ik.
+    Conductor { eta: Complex32, label: String },
+}
+
+/// Runs `prisma fresnel`.
+pub fn run(args: &FresnelArgs) -> Result<(), CliError> {
+    if let Some(fixture) = &args.fixture {
+        return run_fixture(fixture, args.plot.as_deref());
+    }
+    let spec = args.ior.as_deref().unwrap_or_default();
+    if !(args.wavelength.is_finite() && (200.0..=2000.0).contains(&args.wavelength)) {
+        return Err(CliError::Input(anyhow!("--wavelength must be in 200–2000 nm, got {}", args.wavelength)));
+    }
+    let interface = parse_spec(spec, args.wavelength).map_err(CliError::Input)?;
+    let angles: Vec<f64> = (0..=360).map(|i| f64::from(i) * 0.25).collect();
+    let mut csv = String::new();
+    let mut outside: [Vec<(f64, f64)>; 3] = Default::default();
+    let mut inside: [Vec<(f64, f64)>; 3] = Default::default();
+    match &interface {
+        Interface::Dielectric { n, label } => {
+            let _ = writeln!(csv, "# prisma fresnel: {label}, n = {n} (relative to vacuum)");
+            let _ = writeln!(csv, "angle_deg,rs_outside,rp_outside,r_outside,rs_inside,rp_inside,r_inside");
+            for &angle in &angles {
+                let cos = angle.to_radians().cos() as f32;
+                let out = fresnel_dielectric_amplitudes(cos, *n);
+                let inn = fresnel_dielectric_amplitudes(-cos, *n);
+                let row_out = [out.reflectance_s, out.reflectance_p, out.reflectance];
+                let row_in = [inn.reflectance_s, inn.reflectance_p, inn.reflectance];
+                let _ = writeln!(
+                    csv,
+                    "{angle},{},{},{},{},{},{}",
+                    row_out[0], row_out[1], row_out[2], row_in[0], row_in[1], row_in[2]
+                );
+                for k in 0..3 {
+                    outside[k].push((angle, f64::from(row_out[k])));
+                    inside[k].push((angle, f64::from(row_in[k])));
+                }
+            }
+        }
+        Interface::Conductor { eta, label } => {
+            let _ = writeln!(csv, "# prisma fresnel: {label}, n + ik = {} + {}i", eta.re, eta.im);
+            let _ = writeln!(csv, "angle_deg,rs_outside,rp_outside,r_outside");
+            for &angle in &angles {
+                let f = fresnel_conductor(angle.to_radians().cos() as f32, *eta);
+                let row = [f.reflectance_s, f.reflectance_p, f.reflectance];
+                let _ = writeln!(csv, "{angle},{},{},{}", row[0], row[1], row[2]);
+                for k in 0..3 {
+                    outside[k].push((angle, f64::from(row[k])));
+                }
+            }
+        }
+    }
+    if let Some(path) = &args.output {
+        write_text(path, &csv).map_err(CliError::Failed)?;
+        println!("wrote {}", path.display());
+    } else if args.plot.is_none() {
+        print!("{csv}");
+    }
+    if let Some(path) = &args.plot {
+        let panels = curve_panels(&interface, outside, inside, args.wavelength);
+        write_chart(path, &panels, (640, 480)).context("writing the plot").map_err(CliError::Failed)?;
+        println!("wrote {}", path.display());
+    }
+    Ok(())
+}
+
+fn curve_panels(
+    interface: &Interface,
+    outside: [Vec<(f64, f64)>; 3],
+    inside: [Vec<(f64, f64)>; 3],
+    wavelength_nm: f32,
+) -> Vec<Panel> {
+    let names = ["Rs (s, TE)", "Rp (p, TM)", "R unpolarised"];
+    let styles = [Style::Dashed, Style::Dashed, Style::Line];
+    let series = |curves: [Vec<(f64, f64)>; 3]| -> Vec<Series> {
+        curves
+            .into_iter()
+            .enumerate()
+            .map(|(k, points)| Series { label: names[k].into(), points, color: PALETTE[k], style: styles[k] })
+            .collect()
+    };
+    let panel = |title: String, series: Vec<Series>, markers: Vec<Marker>| Panel {
+        title,
+        x_label: "angle of incidence θi (degrees)".into(),
+        y_label: "reflectance".into(),
+        x_range: (0.0, 90.0),
+        y_range: (0.0, 1.0),
+        series,
+        markers,
+    };
+    match interface {
+        Interface::Dielectric { n, label } => {
+            let n = f64::from(*n);
+            let brewster_out = n.atan().to_degrees();
+            let brewster_in = (1.0 / n).atan().to_degrees();
+            let mut markers_in =
+                vec![Marker { x: brewster_in, label: format!("Brewster {brewster_in:.2}°") }];
+            if n > 1.0 {
+                let critical = (1.0 / n).asin().to_degrees();
+                markers_in.push(Marker { x: critical, label: format!("critical {critical:.2}°") });
+            }
+            let mut markers_out =
+                vec![Marker { x: brewster_out, label: format!("Brewster {brewster_out:.2}°") }];
+            if n < 1.0 {
+                let critical = n.asin().to_degrees();
+                markers_out.push(Marker { x: critical, label: format!("critical {critical:.2}°") });
+            }
+            vec![
+                panel(
+                    format!("vacuum → {label} (n = {n:.4} at {wavelength_nm} nm)"),
+                    series(outside),
+                    markers_out,
+                ),
+                panel(format!("{label} → vacuum (from inside)"), series(inside), markers_in),
+            ]
+        }
+        Interface::Conductor { eta, label } => vec![panel(
+            format!("vacuum → {label} (n + ik = {:.3} + {:.3}i at {wavelength_nm} nm)", eta.re, eta.im),
+            series(outside),
+            Vec::new(),
+        )],
+    }
+}
+
+/// Parses an interface SPEC at `wavelength_nm`.
+fn parse_spec(spec: &str, wavelength_nm: f32) -> anyhow::Result<Interface> {
+    let spec = spec.trim();
+    let numbers = |list: &str, count: usize, what: &str| -> anyhow::Result<Vec<f32>> {
+        let values: Result<Vec<f32>, _> = list.split(',').map(|v| v.trim().parse::<f32>()).collect();
+        match values {
+            Ok(v) if v.len() == count && v.iter().all(|x| x.is_finite()) => Ok(v),
+            _ => bail!("--ior {what}: expected {count} comma-separated finite numbers, got \"{list}\""),
+        }
+    };
+    let dielectric = |ior: Ior, label: String| -> anyhow::Result<Interface> {
+        ior.validate().map_err(|e| anyhow!("--ior {spec}: {e}"))?;
+        Ok(Interface::Dielectric { n: ior.eval(wavelength_nm), label })
+    };
+    if let Ok(n) = spec.parse::<f32>() {
+        if !(n.is_finite() && n > 0.0) {
+            bail!("--ior must be finite and > 0, got {spec}");
+        }
+        return dielectric(Ior::Constant(n), "glass".into());
+    }
+    if let Some(list) = spec.strip_prefix("cauchy:") {
+        let v = numbers(list, 3, "cauchy:A,B,C")?;
+        return dielectric(Ior::Cauchy { a: v[0], b_um2: v[1], c_um4: v[2] }, "Cauchy glass".into());
+    }
+    if let Some(list) = spec.strip_prefix("sellmeier:") {
+        let v = numbers(list, 6, "sellmeier:B1,B2,B3,C1,C2,C3")?;
+        return dielectric(
+            Ior::Sellmeier { b: [v[0], v[1], v[2]], c_um2: [v[3], v[4], v[5]] },
+            "Sellmeier glass".into(),
+        );
+    }
+    if let Some(glass) = catalogue::glass(spec) {
+        return dielectric(glass.ior().clone(), glass.name().to_owned());
+    }
+    if let Some(metal) = metals::metal(spec) {
+        return Ok(Interface::Conductor { eta: metal.eta(wavelength_nm), label: metal.name().to_owned() });
+    }
+    if let Some(complex) = spec.strip_suffix('i') {
+        if let Some(split) = complex.rfind(['+', '-']).filter(|&i| i > 0) {
+            let (re, im) =
+                (complex[..split].parse::<f32>(), complex[split..].trim_start_matches('+').parse::<f32>());
+            if let (Ok(re), Ok(im)) = (re, im) {
+                if re.is_finite() && im.is_finite() && (re != 0.0 || im != 0.0) {
+                    return Ok(Interface::Conductor {
+                        eta: Complex32::new(re, im),
+                        label: "conductor".into(),
+                    });
+                }
+            }
+        }
+    }
+    bail!(
+        "--ior \"{spec}\" is not a number, cauchy:A,B,C, sellmeier:B1,B2,B3,C1,C2,C3, n+ki, a glass ({}) or a metal ({})",
+        catalogue::glass_names().join(", "),
+        metals::metal_names().join(", ")
+    )
+}
+
+fn write_text(path: &Path, text: &str) -> anyhow::Result<()> {
+    prisma::output::atomic::write_atomically(path, |tmp| {
+        std::fs::write(tmp, text)
+            .map_err(|source| prisma::output::OutputError::Io { path: path.display().to_string(), source })
+    })?;
+    Ok(())
+}
+
+/// A fixture file: its column names and numeric rows.
+struct Fixture {
+    columns: Vec<String>,
+    rows: Vec<Vec<f64>>,
+}
+
+fn read_fixture(path: &Path) -> anyhow::Result<Fixture> {
+    let text = std::fs::read_to_string(path).with_context(|| format!("{}: cannot read", path.display()))?;
+    let mut lines = text.lines().enumerate().filter(|(_, l)| !l.starts_with('#') && !l.trim().is_empty());
+    let (_, header) = lines.next().ok_or_else(|| anyhow!("{}: no header line", path.display()))?;
+    let columns: Vec<String> = header.split(',').map(|c| c.trim().to_owned()).collect();
+    let mut rows = Vec::new();
+    for (index, line) in lines {
+        let row: Result<Vec<f64>, _> = line.split(',').map(|v| v.trim().parse::<f64>()).collect();
+        match row {
+            Ok(row) if row.len() == columns.len() => rows.push(row),
+            _ => bail!("{}:{}: expected {} numbers", path.display(), index + 1, columns.len()),
+        }
+    }
+    Ok(Fixture { columns, rows })
+}
+
+/// Plots a Mitsuba fixture with prisma's values overlaid and prints the largest difference.
+fn run_fixture(path: &Path, plot: Option<&Path>) -> Result<(), CliError> {
+    let fixture = read_fixture(path).map_err(CliError::Input)?;
+    let col = |name: &str| fixture.columns.iter().position(|c| c == name);
+    let (cos_col, key_cols, value_col): (usize, Vec<usize>, usize) =
+        match (col("cos_theta_i"), col("eta"), col("eta_re"), col("reflectance"), col("a_s_re")) {
+            (Some(c), Some(e), None, Some(r), None) => (c, vec![e], r),
+            (Some(c), Some(e), None, None, Some(_)) => (c, vec![e], usize::MAX),
+            (Some(c), None, Some(re), Some(r), None) => (c, vec![re, re + 1], r),
+            _ => {
+                return Err(CliError::Input(anyhow!(
+                    "{}: not a prisma Fresnel fixture (columns: {})",
+                    path.display(),
+                    fixture.columns.join(",")
+                )))
+            }
+        };
+    let polarized = value_col == usize::MAX;
+    let a_s = col("a_s_re");
+    // (key, mitsuba points, prisma points)
+    let mut groups: Vec<(Vec<f64>, Vec<(f64, f64)>, Vec<(f64, f64)>)> = Vec::new();
+    let mut largest = 0f64;
+    for row in &fixture.rows {
+        let key: Vec<f64> = key_cols.iter().map(|&k| row[k]).collect();
+        let cos = row[cos_col] as f32;
+        let (mitsuba, prisma) = if polarized {
+            let s = a_s.unwrap_or(0);
+            let reference =
+                0.5 * (row[s].powi(2) + row[s + 1].powi(2) + row[s + 2].powi(2) + row[s + 3].powi(2));
+            (reference, f64::from(fresnel_dielectric_amplitudes(cos, key[0] as f32).reflectance))
+        } else if key.len() == 1 {
+            (row[value_col], f64::from(fresnel_dielectric(cos, key[0] as f32).reflectance))
+        } else {
+            let eta = Complex32::new(key[0] as f32, key[1] as f32);
+            (row[value_col], f64::from(fresnel_conductor(cos, eta).reflectance))
+        };
+        largest = largest.max((mitsuba - prisma).abs());
+        let x = f64::from(cos);
+        match groups.iter_mut().find(|g| g.0 == key) {
+            Some(group) => {
+                group.1.push((x, mitsuba));
+                group.2.push((x, prisma));
+            }
+            None => groups.push((key, vec![(x, mitsuba)], vec![(x, prisma)])),
+        }
+    }
+    println!(
+        "{}: {} rows, {} curves; largest |prisma − Mitsuba| in reflectance = {largest:.3e}",
+        path.display(),
+        fixture.rows.len(),
+        groups.len()
+    );
+    if let Some(plot) = plot {
+        let mut series = Vec::new();
+        for (index, (key, mitsuba, prisma)) in groups.into_iter().enumerate() {
+            let color = PALETTE[index % PALETTE.len()];
+            let name = if key.len() == 1 {
+                format!("η = {:.4}", key[0])
+            } else {
+                format!("η = {}+{}i", key[0], key[1])
+            };
+            series.push(Series {
+                label: format!("Mitsuba {name}"),
+                points: mitsuba,
+                color,
+                style: Style::Points,
+            });
+            series.push(Series {
+                label: format!("prisma {name}"),
+                points: prisma,
+                color,
+                style: Style::Line,
+            });
+        }
+        let x_min = if key_cols.len() == 1 { -1.0 } else { 0.0 };
+        let panel = Panel {
+            title: format!(
+                "{}: Mitsuba 3 (points) vs prisma (lines), max |Δ| = {largest:.1e}",
+                path.file_name().map_or_else(String::new, |n| n.to_string_lossy().into_owned())
+            ),
+            x_label: "cos θi (negative: light from the interior)".into(),
+            y_label: "unpolarised reflectance".into(),
+            x_range: (x_min, 1.0),
+            y_range: (0.0, 1.0),
+            series,
+            markers: Vec::new(),
+        };
+        write_chart(plot, &[panel], (1000, 640)).context("writing the plot").map_err(CliError::Failed)?;
+        println!("wrote {}", plot.display());
+    }
+    Ok(())
+}
