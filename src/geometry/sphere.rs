@@ -6,10 +6,12 @@
 //! small sphere seen from far away, and the two roots are q and c/q with
 //! q = b + sign(b)·√Δ (Press et al., *Numerical Recipes*, §5.6), so neither root cancels.
 //!
-//! Each root is accepted only when its rounding-error interval excludes 0 (the conservative
-//! quadric test of PBR 3rd ed. §3.9.4, here with explicit bounds instead of interval types): a
-//! ray starting on the sphere does not re-hit it where it starts, and a ray spawned inward does
-//! hit the far side. The hit point is reprojected onto the sphere.
+//! A root is accepted only when it is surely positive given rounding-error bounds on b and c
+//! (in the spirit of the conservative quadric test of PBR 3rd ed. §3.9.4, with explicit bounds
+//! instead of interval types): a ray starting on the sphere does not re-hit it where it starts,
+//! and a ray spawned inward does hit the far side. In f32 the discriminant of a ray starting on
+//! the sphere is known to about 24·u·r² (u = 2⁻²⁴), so a ray within ~0.1° of tangent
+//! (chord below ~3·10⁻³ r) may miss its far side. The hit point is reprojected onto the sphere.
 //!
 //! Scene file: `{ type = "sphere", center = [0, 1, 0], radius = 0.5 }`.
 
@@ -58,28 +60,20 @@ impl Sphere {
         let c = f2 - r2;
         let q = b + discriminant.sqrt().copysign(b);
 
-        // Rounding-error bounds (Higham's γ(n) after n roundings):
-        // b: f rounded once, then a dot product of 3 terms (3 roundings).
-        let f_len = f2.sqrt();
+        // Which roots are surely positive, from rounding-error bounds (γ(n): n roundings).
+        // b: f rounded once, then a dot product of 3 terms.
         let error_b = gamma(4) * to_origin.abs().dot(dir.abs());
-        // f + b·d: f's own rounding and 2 more per component, plus b's error (|d| = 1).
-        let error_perpendicular = gamma(3) * f_len + error_b + gamma(2) * b.abs();
-        let perpendicular_len = perpendicular2.sqrt();
-        // |p|² from a p off by e: (|p| + e)² − |p|²; then the dot's roundings and r² − |p|².
-        let error_discriminant = (2.0 * perpendicular_len + error_perpendicular)
-            * error_perpendicular
-            + gamma(3) * (r2 + perpendicular2);
-        // |f|² − r²: f rounded (relative u, doubled by squaring), the dot (γ(3)), r², the difference.
+        // |f|² − r²: f's rounding doubled by squaring, the dot product, r², the difference.
         let error_c = gamma(6) * (f2 + r2);
-        // √ of a value off by e is off by at most e / √max(Δ, e); then the sqrt and the sum round.
-        let error_q = error_b
-            + error_discriminant / discriminant.max(error_discriminant).sqrt()
-            + gamma(2) * q.abs();
-
-        // The root c/q is ~0 exactly when the origin is on the sphere (c ~ 0): it is rejected
-        // when the sign of c is not certain. The root q is ~0 only for a ray tangent at its origin.
-        let near_root = (c.abs() > error_c).then(|| c / q);
-        let far_root = (q.abs() > error_q).then_some(q);
+        let sign_of_c_known = c.abs() > error_c;
+        // The root c/q is ~0 exactly when the origin is on the sphere (c ~ 0): it is kept only
+        // when the sign of c, hence on which side of the surface the origin is, is certain.
+        let near_root = sign_of_c_known.then(|| c / q);
+        // The root q has the sign of b, certain when |b| exceeds its error (then |q| ≥ |b| is
+        // not ~0 either). Otherwise the ray is near tangent at its origin; its roots are then
+        // still certain to have opposite signs if the origin is surely inside (c < 0), and the
+        // positive one is the far side, whichever of the two it is.
+        let far_root = (b.abs() > error_b || (sign_of_c_known && c < 0.0)).then_some(q);
         let t = [near_root, far_root]
             .into_iter()
             .flatten()
@@ -216,25 +210,30 @@ pub(crate) mod tests {
         }
     }
 
-    /// `hit` must be the exit through the far side (never the surface at the origin); only a
-    /// ray within rounding of tangent (exit closer than 10⁻³ r) may miss.
+    /// `hit` must be the exit through the far side (never the surface at the origin). Within
+    /// ~0.1° of tangent (a chord below 3·10⁻³ r, see the module notes) f32 cannot tell a short
+    /// chord from a miss, and either answer is accepted.
     pub(crate) fn check_far_side(sphere: &Sphere, origin: Vec3, dir: Vec3, hit: Option<Hit>) {
+        let grazing = 3e-3 * f64::from(sphere.radius);
         let expected = far_side_distance(sphere, origin, dir);
+        let context = format!("{sphere:?} from {origin} along {dir}");
         match (hit, expected) {
             (Some(hit), Some(expected)) => {
                 let tolerance = far_side_tolerance(sphere.radius, expected);
+                let error = (f64::from(hit.t) - expected).abs();
                 assert!(
-                    (f64::from(hit.t) - expected).abs() < tolerance,
-                    "{sphere:?} from {origin} along {dir}: t {} instead of {expected}",
+                    error < tolerance,
+                    "{context}: t {} instead of {expected}",
                     hit.t
                 );
             }
             (None, expected) => assert!(
-                expected.is_none_or(|t| t < 1e-3 * f64::from(sphere.radius)),
-                "{sphere:?} from {origin} along {dir}: missed the far side at {expected:?}"
+                expected.is_none_or(|t| t < grazing),
+                "{context}: missed the far side at {expected:?}"
             ),
-            (Some(hit), None) => panic!(
-                "{sphere:?} from {origin} along {dir}: hit at {} of a missing line",
+            (Some(hit), None) => assert!(
+                f64::from(hit.t) < grazing,
+                "{context}: hit at {} although the line misses",
                 hit.t
             ),
         }
