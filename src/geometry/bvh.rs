@@ -334,13 +334,12 @@ fn choose_split(
     }
     if depth + balanced_height(count) >= MAX_DEPTH {
         // From here on only median splits keep every leaf within MAX_DEPTH.
-        let middle = count / 2;
-        items.select_nth_unstable_by(middle, |a, b| {
-            a.bounds.centroid()[axis].total_cmp(&b.bounds.centroid()[axis])
-        });
-        return Some(middle);
+        return (count > MAX_LEAF_PRIMITIVES).then(|| median_split(items, axis));
     }
-    let best = best_binned_split(items, centroids);
+    let Some(best) = best_binned_split(items, centroids) else {
+        // Only with non-finite centroid bounds: every centroid falls in one bin.
+        return Some(median_split(items, axis));
+    };
     let area = bounds.surface_area();
     if count <= MAX_LEAF_PRIMITIVES && count as f32 * area <= TRAVERSAL_COST * area + best.cost {
         return None;
@@ -354,6 +353,16 @@ fn choose_split(
         }
     }
     Some(left)
+}
+
+/// Reorders `items` around the median of their centroids along `axis`; returns the index of the
+/// median (the size of the first half).
+fn median_split(items: &mut [BvhPrimitive], axis: usize) -> usize {
+    let middle = items.len() / 2;
+    items.select_nth_unstable_by(middle, |a, b| {
+        a.bounds.centroid()[axis].total_cmp(&b.bounds.centroid()[axis])
+    });
+    middle
 }
 
 /// Maps centroids to bins along one axis.
@@ -394,14 +403,11 @@ struct BinnedSplit {
     cost: f32,
 }
 
-/// The cheapest SAH split over all axes and bin boundaries. The centroid bounds have a
-/// positive extent along some axis, so at least one boundary has primitives on both sides.
-fn best_binned_split(items: &[BvhPrimitive], centroids: &Aabb) -> BinnedSplit {
-    let mut best = BinnedSplit {
-        axis: 0,
-        last_left_bin: 0,
-        cost: f32::INFINITY,
-    };
+/// The cheapest SAH split over all axes and bin boundaries with primitives on both sides.
+/// With finite centroid bounds of positive extent there is always one; `None` otherwise.
+/// (Costs of huge boxes may overflow to ∞; the first such candidate is still a valid split.)
+fn best_binned_split(items: &[BvhPrimitive], centroids: &Aabb) -> Option<BinnedSplit> {
+    let mut best: Option<BinnedSplit> = None;
     for axis in 0..3 {
         let binning = Binning::new(centroids, axis);
         if binning.scale == 0.0 {
@@ -429,12 +435,12 @@ fn best_binned_split(items: &[BvhPrimitive], centroids: &Aabb) -> BinnedSplit {
                 continue;
             }
             let cost = left_bounds.surface_area() * left_count as f32 + right_cost[i];
-            if cost < best.cost {
-                best = BinnedSplit {
+            if best.as_ref().is_none_or(|best| cost < best.cost) {
+                best = Some(BinnedSplit {
                     axis,
                     last_left_bin: i,
                     cost,
-                };
+                });
             }
         }
     }
@@ -525,33 +531,87 @@ mod tests {
     }
 
     #[test]
-    fn exponentially_spaced_boxes_stay_within_the_depth_cap() {
-        // Unit boxes at x = 1.2ⁱ: every SAH split peels off the farthest box, which would give
-        // a tree as deep as it has primitives; the cap forces median splits instead.
-        let primitives: Vec<_> = (0..400)
+    fn depth_cap_forces_median_splits_then_leaves() {
+        let mut rng = Rng::new(6);
+        // Nine primitives need ⌈log₂(9/4)⌉ = 2 more levels of median splits; at depth 62 that
+        // reaches MAX_DEPTH, so the split must be the median one: 4 | 5 by centroid.
+        let mut nine = random_boxes(&mut rng, 9);
+        let (bounds, centroids) = bounds_and_centroid_bounds(&nine);
+        let axis = (centroids.max - centroids.min).max_position();
+        assert_eq!(
+            choose_split(&mut nine, &bounds, &centroids, MAX_DEPTH - 2),
+            Some(4)
+        );
+        let largest_left = nine[..4]
+            .iter()
+            .map(|p| p.bounds.centroid()[axis])
+            .fold(f32::MIN, f32::max);
+        assert!(nine[4..]
+            .iter()
+            .all(|p| p.bounds.centroid()[axis] >= largest_left));
+        // Four scattered boxes: the SAH splits them at depth 0; at MAX_DEPTH they make a leaf.
+        let mut four = random_boxes(&mut rng, 4);
+        let (bounds, centroids) = bounds_and_centroid_bounds(&four);
+        assert!(choose_split(&mut four, &bounds, &centroids, 0).is_some());
+        assert_eq!(
+            choose_split(&mut four, &bounds, &centroids, MAX_DEPTH),
+            None
+        );
+    }
+
+    #[test]
+    fn huge_growing_boxes_build() {
+        // Box i spans x in [1.15ⁱ, 1.15ⁱ⁺¹] and is 1.15ⁱ high and deep, up to ~10¹⁸: each is
+        // about as large as all smaller ones together, and area × count overflows f32 to ∞ in
+        // the SAH costs. The build must still give a valid tree in which every box is found.
+        let primitives: Vec<_> = (0..300)
             .map(|i| {
-                let x = 1.2f32.powi(i);
+                let start = 1.15f32.powi(i);
                 BvhPrimitive {
                     id: i as u32,
                     bounds: Aabb {
-                        min: Vec3::new(x, 0.0, 0.0),
-                        max: Vec3::new(x + 1.0, 1.0, 1.0),
+                        min: Vec3::new(start, 0.0, 0.0),
+                        max: Vec3::new(1.15 * start, start, start),
                     },
                 }
             })
             .collect();
-        let stats = check_structure(&primitives);
-        assert!(stats.max_depth <= MAX_DEPTH);
-        // And every box is still found: a ray along the x axis through all of them.
+        check_structure(&primitives);
         let bvh = Bvh::build(primitives);
-        let ray = Ray::new(Vec3::new(-1.0, 0.5, 0.5), Vec3::X);
+        let ray = Ray::new(Vec3::new(0.0, 0.5, 0.5), Vec3::X);
         let mut visited = Vec::new();
         bvh.closest_hit(&ray, f32::INFINITY, |id, _| {
             visited.push(id);
             None
         });
         visited.sort_unstable();
-        assert!(visited.iter().copied().eq(0..400));
+        assert!(visited.iter().copied().eq(0..300));
+    }
+
+    #[test]
+    fn non_finite_bounds_do_not_break_the_build() {
+        // Boxes with infinite and NaN corners (a sphere of infinite radius, a NaN vertex): the
+        // build terminates with a valid tree (the finite boxes are still found).
+        let mut rng = Rng::new(4);
+        let mut primitives = random_boxes(&mut rng, 100);
+        primitives[10].bounds.max = Vec3::INFINITY;
+        primitives[20].bounds.min = Vec3::NEG_INFINITY;
+        primitives[30].bounds.min.x = f32::NAN;
+        primitives[40].bounds = Aabb {
+            min: Vec3::NEG_INFINITY,
+            max: Vec3::INFINITY,
+        };
+        let bvh = Bvh::build(primitives.clone());
+        let stats = bvh.stats();
+        assert_eq!((stats.primitives, stats.nodes), (100, 2 * stats.leaves - 1));
+        let target = primitives[50].bounds.centroid();
+        let ray = Ray::new(target + Vec3::new(0.0, 0.0, 500.0), -Vec3::Z);
+        let mut found = false;
+        bvh.closest_hit(&ray, f32::INFINITY, |id, _| {
+            found |= id == 50;
+            None
+        });
+        assert!(found);
     }
 
     #[test]

@@ -4,10 +4,6 @@
 //! lines ignored, materials ignored: materials come from the scene file), and every object of
 //! the file is merged into one mesh. Vertex normals are kept only when every vertex has one.
 //! Errors name the file and what is wrong, with the line for parse errors.
-//!
-//! Scene file: `{ type = "mesh", file = "bunny.obj" }`, or
-//! `{ type = "prism", apex_angle_deg = 60, side_length = 1, length = 2 }` for
-//! [`Mesh::triangular_prism`].
 
 use std::io::Cursor;
 use std::path::Path;
@@ -575,6 +571,26 @@ mod tests {
             triangles: vec![[0, 1, 2]],
         };
         assert!(bad_normals.validate().is_err());
+    }
+
+    #[test]
+    fn back_side_hit_keeps_the_winding_normal() {
+        // The triangle is wound counter-clockwise seen from +z. Hit from below: the hit is
+        // reported (two-sided) and the normal stays +z (outward by winding).
+        let mesh = Mesh {
+            positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y],
+            normals: None,
+            triangles: vec![[0, 1, 2]],
+        };
+        let ray = ShearedRay::new(Ray::new(Vec3::new(0.2, 0.2, -1.0), Vec3::Z));
+        let hit = mesh
+            .intersect_triangle(0, &ray, f32::INFINITY, 4)
+            .expect("back side hit");
+        assert_eq!(
+            (hit.t, hit.normal, hit.shading_normal, hit.prim),
+            (1.0, Vec3::Z, Vec3::Z, 4)
+        );
+        assert!((hit.point - Vec3::new(0.2, 0.2, 0.0)).length() < 1e-6);
     }
 
     #[test]

@@ -5,8 +5,6 @@
 //! re-hit it) or the denominator is (the ray runs parallel to the plane to within rounding, so
 //! even the side of the plane it would reach is unknown). The hit point is reprojected onto the
 //! plane. Infinite planes have no bounding box; [`super::Geometry`] tests them outside the BVH.
-//!
-//! Scene file: `{ type = "plane", point = [0, 0, 0], normal = [0, 1, 0] }`.
 
 use glam::Vec3;
 
@@ -109,6 +107,43 @@ mod tests {
         assert!(FLOOR
             .intersect(&ray(Vec3::new(0.0, 1.0, 0.0), -Vec3::Y), 0.5, 0)
             .is_none());
+    }
+
+    #[test]
+    fn ray_starting_on_the_plane_does_not_hit_it() {
+        // Origins exactly on the plane (its own point for tilted planes; any point of an
+        // axis-aligned one), without any push, in every direction: t would be ~0, within the
+        // numerator's rounding error: no hit. (An f32 point merely near a tilted plane is
+        // really off it by its rounding, and a ray from it really crosses the plane at t ~ 1e-7;
+        // spawn_origin moves hit points clear of that: see the next test.)
+        let mut rng = Rng::new(9);
+        for _ in 0..10_000 {
+            let tilted = Plane {
+                point: rng.point_in(Vec3::splat(-1000.0), Vec3::splat(1000.0)),
+                normal: rng.unit_vector(),
+            };
+            let dir = rng.unit_vector();
+            assert_eq!(
+                tilted.intersect(&ray(tilted.point, dir), f32::INFINITY, 0),
+                None,
+                "{tilted:?}"
+            );
+            let height = rng.uniform(-1000.0, 1000.0);
+            let level = Plane {
+                point: Vec3::new(0.0, height, 0.0),
+                normal: Vec3::Y,
+            };
+            let on_level = Vec3::new(
+                rng.uniform(-1000.0, 1000.0),
+                height,
+                rng.uniform(-1000.0, 1000.0),
+            );
+            assert_eq!(
+                level.intersect(&ray(on_level, dir), f32::INFINITY, 0),
+                None,
+                "{level:?}"
+            );
+        }
     }
 
     #[test]

@@ -4,8 +4,6 @@
 //! +e2) with the watertight test of [`super::triangle`]: the shared diagonal cannot leak, nor can
 //! the edge between two quads whose corners coincide exactly, and a ray starting on the quad
 //! never re-hits it. The hit point is rebuilt as `corner + u·e1 + v·e2`.
-//!
-//! Scene file: `{ type = "quad", corner = [-1, 0, -1], edge1 = [0, 0, 2], edge2 = [2, 0, 0] }`.
 
 use glam::Vec3;
 

@@ -7,13 +7,11 @@
 //! q = b + sign(b)·√Δ (Press et al., *Numerical Recipes*, §5.6), so neither root cancels.
 //!
 //! A root is accepted only when it is surely positive given rounding-error bounds on b and c
-//! (in the spirit of the conservative quadric test of PBR 3rd ed. §3.9.4, with explicit bounds
+//! (in the spirit of the conservative quadric test of PBR 3rd ed. §3.9.6, with explicit bounds
 //! instead of interval types): a ray starting on the sphere does not re-hit it where it starts,
 //! and a ray spawned inward does hit the far side. In f32 the discriminant of a ray starting on
 //! the sphere is known to about 24·u·r² (u = 2⁻²⁴), so a ray within ~0.1° of tangent
 //! (chord below ~3·10⁻³ r) may miss its far side. The hit point is reprojected onto the sphere.
-//!
-//! Scene file: `{ type = "sphere", center = [0, 1, 0], radius = 0.5 }`.
 
 use glam::Vec3;
 

@@ -217,6 +217,22 @@ mod tests {
     }
 
     #[test]
+    fn grazing_ray_hits_at_the_right_distance() {
+        // Descending 1 in 1000 over the triangle towards (0.5, 0.25): t = √(1000² + 1)·0.5e-3
+        // from a start 0.5 units before the point in x, 0.5e-3 above it.
+        let target = Vec3::new(0.5, 0.25, 0.0);
+        let dir = Vec3::new(1.0, 0.0, -1e-3).normalize();
+        let start = target - Vec3::new(0.5, 0.0, -0.5e-3);
+        let hit = intersect(start, dir, &TRIANGLE).expect("grazing hit");
+        assert!(
+            (hit.t - 0.5 * (1.0f32 + 1e-6).sqrt()).abs() < 1e-5,
+            "t = {}",
+            hit.t
+        );
+        assert!((hit.point(&TRIANGLE) - target).length() < 1e-5);
+    }
+
+    #[test]
     fn shared_edge_is_watertight() {
         // Two triangles sharing the diagonal (1,0,0)–(0,1,0) of the unit square. Rays through
         // points exactly on that edge, from random directions, must hit at least one of them.
