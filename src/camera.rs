@@ -60,12 +60,13 @@ impl Camera {
         height: u32,
     ) -> Result<Self, CameraError> {
         let view = look_at - position;
-        if !(view.length_squared() > 0.0) || !view.is_finite() {
+        if view.length_squared() <= 0.0 || !view.is_finite() {
             return Err(CameraError::NoViewDirection);
         }
         let forward = view.normalize();
         let left = up.cross(forward);
-        if !(left.length_squared() > 1e-12 * up.length_squared().max(1e-30)) || !left.is_finite() {
+        // NaN lengths fail the finiteness test; zero or tiny cross products mean up ∥ view.
+        if !left.is_finite() || left.length_squared() <= 1e-12 * up.length_squared().max(1e-30) {
             return Err(CameraError::UpParallel);
         }
         if !(fov_y_deg > 0.0 && fov_y_deg < 180.0) {

@@ -255,6 +255,13 @@ fn read_fixture(path: &Path) -> anyhow::Result<Fixture> {
     Ok(Fixture { columns, rows })
 }
 
+/// The rows of a fixture that share one relative index: Mitsuba's and prisma's (cos θi, R).
+struct FixtureCurve {
+    key: Vec<f64>,
+    mitsuba: Vec<(f64, f64)>,
+    prisma: Vec<(f64, f64)>,
+}
+
 /// Plots a Mitsuba fixture with prisma's values overlaid and prints the largest difference.
 fn run_fixture(path: &Path, plot: Option<&Path>) -> Result<(), CliError> {
     let fixture = read_fixture(path).map_err(CliError::Input)?;
@@ -274,8 +281,7 @@ fn run_fixture(path: &Path, plot: Option<&Path>) -> Result<(), CliError> {
         };
     let polarized = value_col == usize::MAX;
     let a_s = col("a_s_re");
-    // (key, mitsuba points, prisma points)
-    let mut groups: Vec<(Vec<f64>, Vec<(f64, f64)>, Vec<(f64, f64)>)> = Vec::new();
+    let mut groups: Vec<FixtureCurve> = Vec::new();
     let mut largest = 0f64;
     for row in &fixture.rows {
         let key: Vec<f64> = key_cols.iter().map(|&k| row[k]).collect();
@@ -293,12 +299,12 @@ fn run_fixture(path: &Path, plot: Option<&Path>) -> Result<(), CliError> {
         };
         largest = largest.max((mitsuba - prisma).abs());
         let x = f64::from(cos);
-        match groups.iter_mut().find(|g| g.0 == key) {
+        match groups.iter_mut().find(|g| g.key == key) {
             Some(group) => {
-                group.1.push((x, mitsuba));
-                group.2.push((x, prisma));
+                group.mitsuba.push((x, mitsuba));
+                group.prisma.push((x, prisma));
             }
-            None => groups.push((key, vec![(x, mitsuba)], vec![(x, prisma)])),
+            None => groups.push(FixtureCurve { key, mitsuba: vec![(x, mitsuba)], prisma: vec![(x, prisma)] }),
         }
     }
     println!(
@@ -309,7 +315,7 @@ fn run_fixture(path: &Path, plot: Option<&Path>) -> Result<(), CliError> {
     );
     if let Some(plot) = plot {
         let mut series = Vec::new();
-        for (index, (key, mitsuba, prisma)) in groups.into_iter().enumerate() {
+        for (index, FixtureCurve { key, mitsuba, prisma }) in groups.into_iter().enumerate() {
             let color = PALETTE[index % PALETTE.len()];
             let name = if key.len() == 1 {
                 format!("η = {:.4}", key[0])

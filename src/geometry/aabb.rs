@@ -23,34 +23,23 @@ pub struct Aabb {
 
 impl Aabb {
     /// The empty box: the identity of [`Self::union`].
-    pub const EMPTY: Aabb = Aabb {
-        min: Vec3::INFINITY,
-        max: Vec3::NEG_INFINITY,
-    };
+    pub const EMPTY: Aabb = Aabb { min: Vec3::INFINITY, max: Vec3::NEG_INFINITY };
 
     /// The smallest box containing all `points` ([`Self::EMPTY`] for none).
     pub fn from_points(points: &[Vec3]) -> Aabb {
-        points
-            .iter()
-            .fold(Aabb::EMPTY, |bounds, &p| bounds.grown(p))
+        points.iter().fold(Aabb::EMPTY, |bounds, &p| bounds.grown(p))
     }
 
     /// This box grown to contain `point`.
     #[inline]
     pub fn grown(self, point: Vec3) -> Aabb {
-        Aabb {
-            min: self.min.min(point),
-            max: self.max.max(point),
-        }
+        Aabb { min: self.min.min(point), max: self.max.max(point) }
     }
 
     /// The smallest box containing both boxes.
     #[inline]
     pub fn union(self, other: Aabb) -> Aabb {
-        Aabb {
-            min: self.min.min(other.min),
-            max: self.max.max(other.max),
-        }
+        Aabb { min: self.min.min(other.min), max: self.max.max(other.max) }
     }
 
     /// The centre of the box.
@@ -80,11 +69,7 @@ impl Aabb {
         let t_max_plane = (Vec3A::from(self.max) - ray.origin) * ray.inv_dir;
         // 0·∞ = NaN: the ray runs inside a slab plane; the slab then constrains nothing.
         let indeterminate: BVec3A = t_min_plane.is_nan_mask() | t_max_plane.is_nan_mask();
-        let t_near = Vec3A::select(
-            indeterminate,
-            Vec3A::NEG_INFINITY,
-            t_min_plane.min(t_max_plane),
-        );
+        let t_near = Vec3A::select(indeterminate, Vec3A::NEG_INFINITY, t_min_plane.min(t_max_plane));
         let t_far = Vec3A::select(indeterminate, Vec3A::INFINITY, t_min_plane.max(t_max_plane));
         let enter = t_near.max_element().max(0.0);
         let exit = (t_far.min_element() * ROBUST_EXIT_SCALE).min(t_max);
@@ -109,10 +94,7 @@ impl BoxRay {
     /// Precomputes the inverse direction of `ray`.
     #[inline]
     pub fn new(ray: &Ray) -> Self {
-        Self {
-            origin: ray.origin.into(),
-            inv_dir: Vec3A::ONE / Vec3A::from(ray.dir),
-        }
+        Self { origin: ray.origin.into(), inv_dir: Vec3A::ONE / Vec3A::from(ray.dir) }
     }
 }
 
@@ -121,10 +103,7 @@ mod tests {
     use super::*;
 
     fn unit_box() -> Aabb {
-        Aabb {
-            min: Vec3::ZERO,
-            max: Vec3::ONE,
-        }
+        Aabb { min: Vec3::ZERO, max: Vec3::ONE }
     }
 
     fn box_ray(origin: Vec3, dir: Vec3) -> BoxRay {
@@ -134,10 +113,7 @@ mod tests {
     #[test]
     fn union_area_and_centroid() {
         // [0,1]³ ∪ [2,3]×[0,1]² = [0,3]×[0,1]²: area 2·(3 + 1 + 3) = 14, centre (1.5, 0.5, 0.5).
-        let other = Aabb {
-            min: Vec3::new(2.0, 0.0, 0.0),
-            max: Vec3::new(3.0, 1.0, 1.0),
-        };
+        let other = Aabb { min: Vec3::new(2.0, 0.0, 0.0), max: Vec3::new(3.0, 1.0, 1.0) };
         let both = unit_box().union(other);
         assert_eq!(both.surface_area(), 14.0);
         assert_eq!(both.centroid(), Vec3::new(1.5, 0.5, 0.5));
@@ -171,16 +147,10 @@ mod tests {
         let grazing = box_ray(Vec3::new(-1.0, 0.0, 0.5), Vec3::X);
         assert_eq!(unit_box().entry_distance(&grazing, 10.0), Some(1.0));
         // Same with a negative zero component and the face y = 1.
-        let negative_zero = BoxRay::new(&Ray::new(
-            Vec3::new(-1.0, 1.0, 0.5),
-            Vec3::new(1.0, -0.0, 0.0),
-        ));
+        let negative_zero = BoxRay::new(&Ray::new(Vec3::new(-1.0, 1.0, 0.5), Vec3::new(1.0, -0.0, 0.0)));
         assert_eq!(unit_box().entry_distance(&negative_zero, 10.0), Some(1.0));
         // A flat box (a quad's bounds, zero thickness in y) and a ray inside its plane.
-        let flat = Aabb {
-            min: Vec3::ZERO,
-            max: Vec3::new(1.0, 0.0, 1.0),
-        };
+        let flat = Aabb { min: Vec3::ZERO, max: Vec3::new(1.0, 0.0, 1.0) };
         assert_eq!(flat.entry_distance(&grazing, 10.0), Some(1.0));
         // Parallel to the slab but outside it: a miss.
         let outside = box_ray(Vec3::new(-1.0, 2.0, 0.5), Vec3::X);

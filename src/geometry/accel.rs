@@ -31,11 +31,7 @@ impl Geometry {
     /// exist, or if a mesh fails [`Mesh::validate`] (meshes from [`Mesh::load_obj`] and
     /// [`Mesh::triangular_prism`] always pass).
     pub fn build(shapes: Vec<Shape>, meshes: Vec<Mesh>) -> Self {
-        assert!(
-            u32::try_from(shapes.len()).is_ok(),
-            "{} shapes: at most 2³² − 1",
-            shapes.len()
-        );
+        assert!(u32::try_from(shapes.len()).is_ok(), "{} shapes: at most 2³² − 1", shapes.len());
         for (index, mesh) in meshes.iter().enumerate() {
             if let Err(error) = mesh.validate() {
                 panic!("mesh {index} is invalid: {error}");
@@ -45,28 +41,15 @@ impl Geometry {
         let mut primitives = Vec::with_capacity(shapes.len());
         for (index, shape) in shapes.iter().enumerate() {
             if let Shape::Triangle { mesh, tri } = *shape {
-                let exists = meshes
-                    .get(mesh as usize)
-                    .is_some_and(|m| (tri as usize) < m.triangles.len());
-                assert!(
-                    exists,
-                    "shape {index} is triangle {tri} of mesh {mesh}, which does not exist"
-                );
+                let exists = meshes.get(mesh as usize).is_some_and(|m| (tri as usize) < m.triangles.len());
+                assert!(exists, "shape {index} is triangle {tri} of mesh {mesh}, which does not exist");
             }
             match shape.bounds(&meshes) {
-                Some(bounds) => primitives.push(BvhPrimitive {
-                    id: index as u32,
-                    bounds,
-                }),
+                Some(bounds) => primitives.push(BvhPrimitive { id: index as u32, bounds }),
                 None => planes.push(index as u32),
             }
         }
-        Self {
-            bvh: Bvh::build(primitives),
-            shapes,
-            meshes,
-            planes,
-        }
+        Self { bvh: Bvh::build(primitives), shapes, meshes, planes }
     }
 
     /// The nearest hit with t in (0, `t_max`).
@@ -75,16 +58,13 @@ impl Geometry {
         let mut nearest: Option<Hit> = None;
         let mut t_limit = t_max;
         for &index in &self.planes {
-            if let Some(hit) =
-                self.shapes[index as usize].intersect(&self.meshes, &sheared, t_limit, index)
-            {
+            if let Some(hit) = self.shapes[index as usize].intersect(&self.meshes, &sheared, t_limit, index) {
                 t_limit = hit.t;
                 nearest = Some(hit);
             }
         }
         self.bvh.closest_hit(ray, t_limit, |index, t_limit| {
-            let hit =
-                self.shapes[index as usize].intersect(&self.meshes, &sheared, t_limit, index)?;
+            let hit = self.shapes[index as usize].intersect(&self.meshes, &sheared, t_limit, index)?;
             nearest = Some(hit);
             Some(hit.t)
         });
@@ -95,9 +75,7 @@ impl Geometry {
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
         let sheared = ShearedRay::new(*ray);
         let hits = |index: u32, t_limit: f32| {
-            self.shapes[index as usize]
-                .intersect(&self.meshes, &sheared, t_limit, index)
-                .is_some()
+            self.shapes[index as usize].intersect(&self.meshes, &sheared, t_limit, index).is_some()
         };
         self.planes.iter().any(|&index| hits(index, t_max)) || self.bvh.any_hit(ray, t_max, hits)
     }
@@ -142,10 +120,7 @@ mod tests {
             let centre = rng.point_in(Vec3::splat(-50.0), Vec3::splat(50.0));
             let size = rng.log_uniform(0.01, 10.0);
             match rng.uniform(0.0, 3.0) as u32 {
-                0 => shapes.push(Shape::Sphere(Sphere {
-                    center: centre,
-                    radius: size,
-                })),
+                0 => shapes.push(Shape::Sphere(Sphere { center: centre, radius: size })),
                 1 => shapes.push(Shape::Quad(Quad {
                     corner: centre,
                     edge1: size * rng.unit_vector(),
@@ -156,10 +131,7 @@ mod tests {
                     for _ in 0..3 {
                         mesh.positions.push(centre + size * rng.unit_vector());
                     }
-                    shapes.push(Shape::Triangle {
-                        mesh: 0,
-                        tri: mesh.triangles.len() as u32,
-                    });
+                    shapes.push(Shape::Triangle { mesh: 0, tri: mesh.triangles.len() as u32 });
                     mesh.triangles.push([first, first + 1, first + 2]);
                 }
             }
@@ -195,11 +167,7 @@ mod tests {
         let mut hits = 0;
         for i in 0..20_000 {
             let ray = random_ray(&mut rng);
-            let t_max = if i % 2 == 0 {
-                f32::INFINITY
-            } else {
-                rng.uniform(1.0, 100.0)
-            };
+            let t_max = if i % 2 == 0 { f32::INFINITY } else { rng.uniform(1.0, 100.0) };
             let expected = linear_scan(&geometry, &ray, t_max);
             let found = geometry.intersect(&ray, t_max);
             match (expected, found) {
@@ -211,11 +179,7 @@ mod tests {
                 }
                 _ => panic!("ray {ray:?}: linear {expected:?}, BVH {found:?}"),
             }
-            assert_eq!(
-                geometry.occluded(&ray, t_max),
-                expected.is_some(),
-                "occlusion of {ray:?}"
-            );
+            assert_eq!(geometry.occluded(&ray, t_max), expected.is_some(), "occlusion of {ray:?}");
         }
         // The soup is dense enough that most rays hit something.
         assert!(hits > 10_000, "only {hits} hits");
@@ -226,14 +190,8 @@ mod tests {
         // A floor plane and a sphere above it: rays down hit the sphere first where it is, the
         // floor elsewhere; the scene bounds ignore the infinite plane.
         let shapes = vec![
-            Shape::Plane(Plane {
-                point: Vec3::ZERO,
-                normal: Vec3::Y,
-            }),
-            Shape::Sphere(Sphere {
-                center: Vec3::new(0.0, 1.0, 0.0),
-                radius: 0.5,
-            }),
+            Shape::Plane(Plane { point: Vec3::ZERO, normal: Vec3::Y }),
+            Shape::Sphere(Sphere { center: Vec3::new(0.0, 1.0, 0.0), radius: 0.5 }),
         ];
         let geometry = Geometry::build(shapes, Vec::new());
         let down = |x: f32| Ray::new(Vec3::new(x, 5.0, 0.0), -Vec3::Y);
@@ -243,25 +201,13 @@ mod tests {
         assert_eq!((on_floor.prim, on_floor.t), (0, 5.0));
         assert!(!geometry.occluded(&down(2.0), 4.9));
         assert!(geometry.occluded(&down(2.0), 5.1));
+        assert_eq!(geometry.bounds(), Some((Vec3::new(-0.5, 0.5, -0.5), Vec3::new(0.5, 1.5, 0.5))));
         assert_eq!(
-            geometry.bounds(),
-            Some((Vec3::new(-0.5, 0.5, -0.5), Vec3::new(0.5, 1.5, 0.5)))
-        );
-        assert_eq!(
-            Geometry::build(
-                vec![Shape::Plane(Plane {
-                    point: Vec3::ZERO,
-                    normal: Vec3::Y
-                })],
-                Vec::new()
-            )
-            .bounds(),
+            Geometry::build(vec![Shape::Plane(Plane { point: Vec3::ZERO, normal: Vec3::Y })], Vec::new())
+                .bounds(),
             None
         );
-        assert_eq!(
-            Geometry::build(Vec::new(), Vec::new()).intersect(&down(0.0), f32::INFINITY),
-            None
-        );
+        assert_eq!(Geometry::build(Vec::new(), Vec::new()).intersect(&down(0.0), f32::INFINITY), None);
     }
 
     /// Every spawned ray is checked against the primitive it starts on: planar primitives must
@@ -294,19 +240,13 @@ mod tests {
             let size = rng.log_uniform(0.01, 1000.0);
             let mut mesh = Mesh::default();
             let shape = match rng.uniform(0.0, 4.0) as u32 {
-                0 => Shape::Sphere(Sphere {
-                    center: centre,
-                    radius: size,
-                }),
+                0 => Shape::Sphere(Sphere { center: centre, radius: size }),
                 1 => Shape::Quad(Quad {
                     corner: centre,
                     edge1: size * rng.unit_vector(),
                     edge2: size * rng.unit_vector(),
                 }),
-                2 => Shape::Plane(Plane {
-                    point: centre,
-                    normal: rng.unit_vector(),
-                }),
+                2 => Shape::Plane(Plane { point: centre, normal: rng.unit_vector() }),
                 _ => {
                     mesh.positions = (0..3).map(|_| centre + size * rng.unit_vector()).collect();
                     mesh.triangles.push([0, 1, 2]);
@@ -316,14 +256,10 @@ mod tests {
             let geometry = Geometry::build(vec![shape], vec![mesh]);
             // Aim at a point near the shape, from outside or (half the time) from a nearby point.
             let target = centre + size * rng.uniform(0.0, 0.7) * rng.unit_vector();
-            let distance = if rng.uniform(0.0, 1.0) < 0.5 {
-                rng.log_uniform(0.01, 1000.0)
-            } else {
-                0.1 * size
-            };
+            let distance =
+                if rng.uniform(0.0, 1.0) < 0.5 { rng.log_uniform(0.01, 1000.0) } else { 0.1 * size };
             let from = target + distance * rng.unit_vector();
-            let Some(hit) =
-                geometry.intersect(&Ray::new(from, (target - from).normalize()), f32::INFINITY)
+            let Some(hit) = geometry.intersect(&Ray::new(from, (target - from).normalize()), f32::INFINITY)
             else {
                 continue;
             };
@@ -341,9 +277,7 @@ mod tests {
         // again beyond that point.
         let prism = Mesh::triangular_prism(std::f32::consts::FRAC_PI_3, 2.0, 3.0);
         let vertices = prism.positions.clone();
-        let shapes = (0..prism.triangles.len() as u32)
-            .map(|tri| Shape::Triangle { mesh: 0, tri })
-            .collect();
+        let shapes = (0..prism.triangles.len() as u32).map(|tri| Shape::Triangle { mesh: 0, tri }).collect();
         let geometry = Geometry::build(shapes, vec![prism]);
         let mut rng = Rng::new(5);
         let mut inside_rays = 0;
@@ -354,8 +288,7 @@ mod tests {
             } else {
                 rng.point_in(Vec3::splat(-1.0), Vec3::splat(1.0))
             };
-            let Some(hit) =
-                geometry.intersect(&Ray::new(from, (target - from).normalize()), f32::INFINITY)
+            let Some(hit) = geometry.intersect(&Ray::new(from, (target - from).normalize()), f32::INFINITY)
             else {
                 continue;
             };
@@ -364,12 +297,8 @@ mod tests {
                 // strictly inside.
                 let weights: Vec<f32> = (0..6).map(|_| rng.uniform(0.01, 1.0)).collect();
                 let total: f32 = weights.iter().sum();
-                let interior = 0.9
-                    * vertices
-                        .iter()
-                        .zip(&weights)
-                        .map(|(v, w)| *v * (*w / total))
-                        .sum::<Vec3>();
+                let interior =
+                    0.9 * vertices.iter().zip(&weights).map(|(v, w)| *v * (*w / total)).sum::<Vec3>();
                 let dir = (interior - hit.point).normalize();
                 let inner = Ray::new(spawn_origin(hit.point, hit.normal, dir), dir);
                 let exit = geometry.intersect(&inner, f32::INFINITY);
@@ -378,8 +307,7 @@ mod tests {
                 // leaves the origin a few ULPs outside the neighbouring face, which then catches
                 // the ray at t ~ 1e-7. The ray is still stopped by the mesh, not leaked.
                 let beyond = (interior - hit.point).length();
-                let caught =
-                    exit.is_some_and(|e| e.t > beyond || (e.prim != hit.prim && e.t < 1e-5));
+                let caught = exit.is_some_and(|e| e.t > beyond || (e.prim != hit.prim && e.t < 1e-5));
                 assert!(caught, "leak from {} along {dir}: {exit:?}", hit.point);
                 inside_rays += 1;
             }
@@ -405,9 +333,7 @@ mod tests {
         let point = Vec3::new(1.0 - 1e-4, 0.0, 0.0);
         let dir = Vec3::new(1.0, 1e-3, 0.0).normalize();
         let ray = Ray::new(spawn_origin(point, floor.normal(), dir), dir);
-        let hit = geometry
-            .intersect(&ray, f32::INFINITY)
-            .expect("hits the wall");
+        let hit = geometry.intersect(&ray, f32::INFINITY).expect("hits the wall");
         assert_eq!(hit.prim, 1);
         assert!((hit.t - 1e-4).abs() < 1e-6, "t = {}", hit.t);
     }
@@ -421,13 +347,8 @@ mod tests {
             for segment in 0..segments {
                 let phi = std::f32::consts::TAU * segment as f32 / segments as f32;
                 let bump = 1.0 + 0.1 * (7.0 * theta).sin() * (5.0 * phi).cos();
-                mesh.positions.push(
-                    bump * Vec3::new(
-                        theta.sin() * phi.cos(),
-                        theta.cos(),
-                        theta.sin() * phi.sin(),
-                    ),
-                );
+                mesh.positions
+                    .push(bump * Vec3::new(theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin()));
             }
         }
         for ring in 0..rings {
@@ -447,9 +368,7 @@ mod tests {
         // 20 000 triangles: every ray from outside aimed at the centre hits (the bumpy surface
         // encloses the centre), at a distance between 10 − 1.1 and 10 − 0.9.
         let mesh = tessellated_sphere(100, 100);
-        let shapes = (0..mesh.triangles.len() as u32)
-            .map(|tri| Shape::Triangle { mesh: 0, tri })
-            .collect();
+        let shapes = (0..mesh.triangles.len() as u32).map(|tri| Shape::Triangle { mesh: 0, tri }).collect();
         let geometry = Geometry::build(shapes, vec![mesh]);
         let stats = geometry.bvh_stats();
         assert_eq!(stats.primitives, 20_000);
@@ -457,9 +376,8 @@ mod tests {
         let mut rng = Rng::new(8);
         for _ in 0..2_000 {
             let from = 10.0 * rng.unit_vector();
-            let hit = geometry
-                .intersect(&Ray::new(from, -from.normalize()), f32::INFINITY)
-                .expect("closed mesh");
+            let hit =
+                geometry.intersect(&Ray::new(from, -from.normalize()), f32::INFINITY).expect("closed mesh");
             assert!(hit.t > 8.85 && hit.t < 9.15, "t = {}", hit.t);
         }
     }
@@ -481,9 +399,7 @@ mod tests {
     fn benchmark() {
         let mesh = tessellated_sphere(500, 1000);
         let triangles = mesh.triangles.len() as u32;
-        let shapes: Vec<_> = (0..triangles)
-            .map(|tri| Shape::Triangle { mesh: 0, tri })
-            .collect();
+        let shapes: Vec<_> = (0..triangles).map(|tri| Shape::Triangle { mesh: 0, tri }).collect();
         let start = Instant::now();
         let geometry = Geometry::build(shapes, vec![mesh]);
         let build = start.elapsed();
@@ -515,8 +431,7 @@ mod tests {
             })
             .collect();
         for (name, rays) in [("incoherent", &incoherent), ("camera", &coherent)] {
-            let (nearest, hits) =
-                throughput(rays, |ray| geometry.intersect(ray, f32::INFINITY).is_some());
+            let (nearest, hits) = throughput(rays, |ray| geometry.intersect(ray, f32::INFINITY).is_some());
             let (any, occluded) = throughput(rays, |ray| geometry.occluded(ray, f32::INFINITY));
             assert_eq!(hits, occluded);
             println!(
@@ -530,9 +445,7 @@ mod tests {
         let soup = random_soup(&mut rng, 3_000);
         let rays: Vec<Ray> = (0..20_000).map(|_| random_ray(&mut rng)).collect();
         let (bvh, _) = throughput(&rays, |ray| soup.intersect(ray, f32::INFINITY).is_some());
-        let (linear, _) = throughput(&rays, |ray| {
-            linear_scan(&soup, ray, f32::INFINITY).is_some()
-        });
+        let (linear, _) = throughput(&rays, |ray| linear_scan(&soup, ray, f32::INFINITY).is_some());
         println!(
             "brute check, 3000 shapes: BVH {:.2} Mrays/s, linear scan {:.4} Mrays/s",
             bvh / 1e6,

@@ -57,10 +57,7 @@ struct Node {
 
 impl Node {
     fn bounds(&self) -> Aabb {
-        Aabb {
-            min: self.min,
-            max: self.max,
-        }
+        Aabb { min: self.min, max: self.max }
     }
 }
 
@@ -118,12 +115,7 @@ impl Bvh {
         let mut max_depth = 0;
         // Depth first: the second child is pushed first, so the first child is built next and
         // lands right after its parent.
-        let mut tasks = vec![Task {
-            start: 0,
-            end: primitives.len(),
-            depth: 0,
-            second_child_of: None,
-        }];
+        let mut tasks = vec![Task { start: 0, end: primitives.len(), depth: 0, second_child_of: None }];
         while let Some(task) = tasks.pop() {
             let index = nodes.len();
             if let Some(parent) = task.second_child_of {
@@ -161,11 +153,7 @@ impl Bvh {
                 }
             }
         }
-        Bvh {
-            nodes,
-            ids: primitives.iter().map(|p| p.id).collect(),
-            max_depth,
-        }
+        Bvh { nodes, ids: primitives.iter().map(|p| p.id).collect(), max_depth }
     }
 
     /// The bounds of everything in the hierarchy; `None` when it is empty.
@@ -180,8 +168,7 @@ impl Bvh {
             nodes: self.nodes.len(),
             leaves: self.nodes.iter().filter(|n| n.count > 0).count(),
             max_depth: self.max_depth,
-            bytes: std::mem::size_of_val(self.nodes.as_slice())
-                + std::mem::size_of_val(self.ids.as_slice()),
+            bytes: std::mem::size_of_val(self.nodes.as_slice()) + std::mem::size_of_val(self.ids.as_slice()),
         }
     }
 
@@ -189,23 +176,13 @@ impl Bvh {
     /// ray enters before `t_max`, nearest boxes first. `intersect` returns the distance of a hit
     /// closer than the `t_max` it was given (which then shrinks), or `None`.
     #[inline]
-    pub fn closest_hit(
-        &self,
-        ray: &Ray,
-        t_max: f32,
-        intersect: impl FnMut(u32, f32) -> Option<f32>,
-    ) {
+    pub fn closest_hit(&self, ray: &Ray, t_max: f32, intersect: impl FnMut(u32, f32) -> Option<f32>) {
         self.traverse::<false>(ray, t_max, intersect);
     }
 
     /// Any-hit traversal: true as soon as `intersect(id, t_max)` reports a hit.
     #[inline]
-    pub fn any_hit(
-        &self,
-        ray: &Ray,
-        t_max: f32,
-        mut intersect: impl FnMut(u32, f32) -> bool,
-    ) -> bool {
+    pub fn any_hit(&self, ray: &Ray, t_max: f32, mut intersect: impl FnMut(u32, f32) -> bool) -> bool {
         self.traverse::<true>(ray, t_max, |id, t| intersect(id, t).then_some(t))
     }
 
@@ -245,12 +222,8 @@ impl Bvh {
             } else {
                 let first_child = node_index + 1;
                 let second_child = node.offset as usize;
-                let first_entry = self.nodes[first_child]
-                    .bounds()
-                    .entry_distance(&box_ray, t_max);
-                let second_entry = self.nodes[second_child]
-                    .bounds()
-                    .entry_distance(&box_ray, t_max);
+                let first_entry = self.nodes[first_child].bounds().entry_distance(&box_ray, t_max);
+                let second_entry = self.nodes[second_child].bounds().entry_distance(&box_ray, t_max);
                 match (first_entry, second_entry) {
                     (Some(first_t), Some(second_t)) => {
                         let (near, far, far_t) = if first_t <= second_t {
@@ -292,14 +265,9 @@ impl Bvh {
 
 /// The union of the boxes of `items` and the bounds of their centroids, in one pass.
 fn bounds_and_centroid_bounds(items: &[BvhPrimitive]) -> (Aabb, Aabb) {
-    items
-        .iter()
-        .fold((Aabb::EMPTY, Aabb::EMPTY), |(bounds, centroids), item| {
-            (
-                bounds.union(item.bounds),
-                centroids.grown(item.bounds.centroid()),
-            )
-        })
+    items.iter().fold((Aabb::EMPTY, Aabb::EMPTY), |(bounds, centroids), item| {
+        (bounds.union(item.bounds), centroids.grown(item.bounds.centroid()))
+    })
 }
 
 /// Levels of median splits needed to bring `count` primitives down to leaves.
@@ -314,12 +282,7 @@ fn balanced_height(mut count: usize) -> usize {
 
 /// Decides between a leaf (`None`) and a split; for a split, reorders `items` so that the first
 /// child's primitives come first and returns how many there are (≥ 1, < `items.len()`).
-fn choose_split(
-    items: &mut [BvhPrimitive],
-    bounds: &Aabb,
-    centroids: &Aabb,
-    depth: usize,
-) -> Option<usize> {
+fn choose_split(items: &mut [BvhPrimitive], bounds: &Aabb, centroids: &Aabb, depth: usize) -> Option<usize> {
     let count = items.len();
     if count == 1 {
         return None;
@@ -378,11 +341,7 @@ impl Binning {
         Self {
             axis,
             origin: centroids.min[axis],
-            scale: if extent > 0.0 {
-                BIN_COUNT as f32 / extent
-            } else {
-                0.0
-            },
+            scale: if extent > 0.0 { BIN_COUNT as f32 / extent } else { 0.0 },
         }
     }
 
@@ -436,11 +395,7 @@ fn best_binned_split(items: &[BvhPrimitive], centroids: &Aabb) -> Option<BinnedS
             }
             let cost = left_bounds.surface_area() * left_count as f32 + right_cost[i];
             if best.as_ref().is_none_or(|best| cost < best.cost) {
-                best = Some(BinnedSplit {
-                    axis,
-                    last_left_bin: i,
-                    cost,
-                });
+                best = Some(BinnedSplit { axis, last_left_bin: i, cost });
             }
         }
     }
@@ -457,13 +412,7 @@ mod tests {
             .map(|id| {
                 let centre = rng.point_in(Vec3::splat(-100.0), Vec3::splat(100.0));
                 let half = rng.point_in(Vec3::ZERO, Vec3::splat(2.0));
-                BvhPrimitive {
-                    id: id as u32,
-                    bounds: Aabb {
-                        min: centre - half,
-                        max: centre + half,
-                    },
-                }
+                BvhPrimitive { id: id as u32, bounds: Aabb { min: centre - half, max: centre + half } }
             })
             .collect()
     }
@@ -508,24 +457,15 @@ mod tests {
         // the SAH splits down to single primitives: at most 2n − 1 nodes, < 68 bytes each.
         assert_eq!(std::mem::size_of::<Node>(), 32);
         assert_eq!(stats.bytes, 32 * stats.nodes + 4 * stats.primitives);
-        assert!(
-            stats.bytes_per_primitive() < 68.0,
-            "{} B/primitive",
-            stats.bytes_per_primitive()
-        );
+        assert!(stats.bytes_per_primitive() < 68.0, "{} B/primitive", stats.bytes_per_primitive());
     }
 
     #[test]
     fn identical_boxes_split_by_count() {
         // Ten thousand copies of one box: the SAH sees no difference; splitting by count gives
         // a balanced tree of depth ⌈log₂(10000 / 4)⌉ = 12.
-        let unit = Aabb {
-            min: Vec3::ZERO,
-            max: Vec3::ONE,
-        };
-        let primitives: Vec<_> = (0..10_000)
-            .map(|id| BvhPrimitive { id, bounds: unit })
-            .collect();
+        let unit = Aabb { min: Vec3::ZERO, max: Vec3::ONE };
+        let primitives: Vec<_> = (0..10_000).map(|id| BvhPrimitive { id, bounds: unit }).collect();
         let stats = check_structure(&primitives);
         assert_eq!(stats.max_depth, 12);
     }
@@ -538,25 +478,14 @@ mod tests {
         let mut nine = random_boxes(&mut rng, 9);
         let (bounds, centroids) = bounds_and_centroid_bounds(&nine);
         let axis = (centroids.max - centroids.min).max_position();
-        assert_eq!(
-            choose_split(&mut nine, &bounds, &centroids, MAX_DEPTH - 2),
-            Some(4)
-        );
-        let largest_left = nine[..4]
-            .iter()
-            .map(|p| p.bounds.centroid()[axis])
-            .fold(f32::MIN, f32::max);
-        assert!(nine[4..]
-            .iter()
-            .all(|p| p.bounds.centroid()[axis] >= largest_left));
+        assert_eq!(choose_split(&mut nine, &bounds, &centroids, MAX_DEPTH - 2), Some(4));
+        let largest_left = nine[..4].iter().map(|p| p.bounds.centroid()[axis]).fold(f32::MIN, f32::max);
+        assert!(nine[4..].iter().all(|p| p.bounds.centroid()[axis] >= largest_left));
         // Four scattered boxes: the SAH splits them at depth 0; at MAX_DEPTH they make a leaf.
         let mut four = random_boxes(&mut rng, 4);
         let (bounds, centroids) = bounds_and_centroid_bounds(&four);
         assert!(choose_split(&mut four, &bounds, &centroids, 0).is_some());
-        assert_eq!(
-            choose_split(&mut four, &bounds, &centroids, MAX_DEPTH),
-            None
-        );
+        assert_eq!(choose_split(&mut four, &bounds, &centroids, MAX_DEPTH), None);
     }
 
     #[test]
@@ -597,10 +526,7 @@ mod tests {
         primitives[10].bounds.max = Vec3::INFINITY;
         primitives[20].bounds.min = Vec3::NEG_INFINITY;
         primitives[30].bounds.min.x = f32::NAN;
-        primitives[40].bounds = Aabb {
-            min: Vec3::NEG_INFINITY,
-            max: Vec3::INFINITY,
-        };
+        primitives[40].bounds = Aabb { min: Vec3::NEG_INFINITY, max: Vec3::INFINITY };
         let bvh = Bvh::build(primitives.clone());
         let stats = bvh.stats();
         assert_eq!((stats.primitives, stats.nodes), (100, 2 * stats.leaves - 1));
@@ -632,9 +558,7 @@ mod tests {
         let box_ray = BoxRay::new(&ray);
         let mut nearest = None;
         bvh.closest_hit(&ray, f32::INFINITY, |id, t_max| {
-            let t = primitives[id as usize]
-                .bounds
-                .entry_distance(&box_ray, t_max)?;
+            let t = primitives[id as usize].bounds.entry_distance(&box_ray, t_max)?;
             nearest = Some(id);
             Some(t)
         });

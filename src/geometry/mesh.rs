@@ -42,10 +42,8 @@ impl Mesh {
     /// face refers to a vertex that does not exist; the file has no triangles; a coordinate or
     /// normal is not finite.
     pub fn load_obj(path: &Path) -> Result<Mesh, MeshError> {
-        let in_file =
-            |problem: String| MeshError::Invalid(format!("{}: {problem}", path.display()));
-        let bytes =
-            std::fs::read(path).map_err(|e| in_file(format!("cannot read the file: {e}")))?;
+        let in_file = |problem: String| MeshError::Invalid(format!("{}: {problem}", path.display()));
+        let bytes = std::fs::read(path).map_err(|e| in_file(format!("cannot read the file: {e}")))?;
         let mut reader = Cursor::new(bytes.as_slice());
         let options = tobj::LoadOptions {
             triangulate: true,
@@ -66,18 +64,10 @@ impl Mesh {
             let data = &model.mesh;
             let first = u32::try_from(mesh.positions.len())
                 .map_err(|_| in_file("more than 2³² vertices".to_string()))?;
-            let positions: Vec<Vec3> = data
-                .positions
-                .chunks_exact(3)
-                .map(Vec3::from_slice)
-                .collect();
+            let positions: Vec<Vec3> = data.positions.chunks_exact(3).map(Vec3::from_slice).collect();
             if data.normals.len() == data.positions.len() {
                 if let Some(all) = normals.as_mut() {
-                    all.extend(
-                        data.normals
-                            .chunks_exact(3)
-                            .map(|n| Vec3::from_slice(n).normalize_or_zero()),
-                    );
+                    all.extend(data.normals.chunks_exact(3).map(|n| Vec3::from_slice(n).normalize_or_zero()));
                 }
             } else if !positions.is_empty() {
                 normals = None;
@@ -85,25 +75,18 @@ impl Mesh {
             for face in data.indices.chunks_exact(3) {
                 let offset = |index: u32| {
                     index.checked_add(first).ok_or_else(|| {
-                        in_file(format!(
-                            "object '{}': vertex index {index} out of range",
-                            model.name
-                        ))
+                        in_file(format!("object '{}': vertex index {index} out of range", model.name))
                     })
                 };
-                mesh.triangles
-                    .push([offset(face[0])?, offset(face[1])?, offset(face[2])?]);
+                mesh.triangles.push([offset(face[0])?, offset(face[1])?, offset(face[2])?]);
             }
             mesh.positions.extend(positions);
         }
         if mesh.triangles.is_empty() {
-            return Err(in_file(
-                "no triangles (the file has no faces with 3 or more vertices)".to_string(),
-            ));
+            return Err(in_file("no triangles (the file has no faces with 3 or more vertices)".to_string()));
         }
         mesh.normals = normals;
-        mesh.validate()
-            .map_err(|MeshError::Invalid(problem)| in_file(problem))?;
+        mesh.validate().map_err(|MeshError::Invalid(problem)| in_file(problem))?;
         Ok(mesh)
     }
 
@@ -138,9 +121,7 @@ impl Mesh {
         }
         for (name, value) in [("side length", side_length), ("length", length)] {
             if !(value > 0.0 && value.is_finite()) {
-                return Err(MeshError::Invalid(format!(
-                    "prism {name} must be positive, got {value}"
-                )));
+                return Err(MeshError::Invalid(format!("prism {name} must be positive, got {value}")));
             }
         }
         let half_base = side_length * (0.5 * apex_angle_rad).sin();
@@ -163,11 +144,7 @@ impl Mesh {
             triangles.push([i, j, j + 3]);
             triangles.push([i, j + 3, i + 3]);
         }
-        Ok(Mesh {
-            positions,
-            normals: None,
-            triangles,
-        })
+        Ok(Mesh { positions, normals: None, triangles })
     }
 
     /// This mesh with every position (and normal) transformed by `transform`.
@@ -201,11 +178,7 @@ impl Mesh {
             self.triangles.clone()
         };
         Mesh {
-            positions: self
-                .positions
-                .iter()
-                .map(|&p| transform.transform_point3(p))
-                .collect(),
+            positions: self.positions.iter().map(|&p| transform.transform_point3(p)).collect(),
             normals,
             triangles,
         }
@@ -216,24 +189,14 @@ impl Mesh {
     pub fn validate(&self) -> Result<(), MeshError> {
         let invalid = |problem: String| Err(MeshError::Invalid(problem));
         if let Some(index) = self.positions.iter().position(|p| !p.is_finite()) {
-            return invalid(format!(
-                "vertex {index} has a non-finite position {}",
-                self.positions[index]
-            ));
+            return invalid(format!("vertex {index} has a non-finite position {}", self.positions[index]));
         }
         if let Some(normals) = &self.normals {
             if normals.len() != self.positions.len() {
-                return invalid(format!(
-                    "{} normals for {} vertices",
-                    normals.len(),
-                    self.positions.len()
-                ));
+                return invalid(format!("{} normals for {} vertices", normals.len(), self.positions.len()));
             }
             if let Some(index) = normals.iter().position(|n| !n.is_finite()) {
-                return invalid(format!(
-                    "vertex {index} has a non-finite normal {}",
-                    normals[index]
-                ));
+                return invalid(format!("vertex {index} has a non-finite normal {}", normals[index]));
             }
         }
         let count = self.positions.len();
@@ -266,13 +229,7 @@ impl Mesh {
     /// shading normal interpolates the vertex normals (when present and not vanishing), turned
     /// to the side of the normal. Panics as [`Self::triangle`].
     #[inline]
-    pub fn intersect_triangle(
-        &self,
-        tri: u32,
-        ray: &ShearedRay,
-        t_max: f32,
-        prim: u32,
-    ) -> Option<Hit> {
+    pub fn intersect_triangle(&self, tri: u32, ray: &ShearedRay, t_max: f32, prim: u32) -> Option<Hit> {
         let vertices = self.triangle(tri);
         let hit = intersect_triangle(ray, &vertices, t_max)?;
         let [v0, v1, v2] = vertices;
@@ -287,23 +244,14 @@ impl Mesh {
                     .try_normalize()
             })
             .map_or(normal, |n| if n.dot(normal) < 0.0 { -n } else { n });
-        Some(Hit {
-            t: hit.t,
-            point: hit.point(&vertices),
-            normal,
-            shading_normal,
-            prim,
-        })
+        Some(Hit { t: hit.t, point: hit.point(&vertices), normal, shading_normal, prim })
     }
 }
 
 /// The 1-based number of the line that ends just before byte `position` (the last line tobj read).
 fn line_before(bytes: &[u8], position: u64) -> usize {
     let end = usize::try_from(position).map_or(bytes.len(), |p| p.min(bytes.len()));
-    1 + bytes[..end.saturating_sub(1)]
-        .iter()
-        .filter(|&&b| b == b'\n')
-        .count()
+    1 + bytes[..end.saturating_sub(1)].iter().filter(|&&b| b == b'\n').count()
 }
 
 /// A sentence for a tobj error found after reading `line`.
@@ -335,16 +283,11 @@ mod tests {
     use crate::geometry::Ray;
 
     fn data(name: &str) -> PathBuf {
-        Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("tests/data/geometry")
-            .join(name)
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/geometry").join(name)
     }
 
     fn load_text(text: &str) -> (tempfile::NamedTempFile, Result<Mesh, MeshError>) {
-        let mut file = tempfile::Builder::new()
-            .suffix(".obj")
-            .tempfile()
-            .expect("temporary file");
+        let mut file = tempfile::Builder::new().suffix(".obj").tempfile().expect("temporary file");
         file.write_all(text.as_bytes()).expect("write");
         let result = Mesh::load_obj(file.path());
         (file, result)
@@ -354,10 +297,7 @@ mod tests {
         let (file, result) = load_text(text);
         let message = result.expect_err("load should fail").to_string();
         let name = file.path().display().to_string();
-        assert!(
-            message.starts_with(&name),
-            "message does not name the file: {message}"
-        );
+        assert!(message.starts_with(&name), "message does not name the file: {message}");
         message
     }
 
@@ -380,10 +320,7 @@ mod tests {
         assert!(normals.iter().take(4).all(|&n| n == Vec3::Z));
         // The second object's indices are offset past the first object's vertices.
         assert!(mesh.triangles[2].iter().all(|&i| i >= 4));
-        assert_eq!(
-            mesh.positions[mesh.triangles[2][0] as usize],
-            Vec3::new(0.0, 0.0, 1.0)
-        );
+        assert_eq!(mesh.positions[mesh.triangles[2][0] as usize], Vec3::new(0.0, 0.0, 1.0));
     }
 
     #[test]
@@ -399,20 +336,14 @@ mod tests {
     fn missing_file_is_named() {
         let path = data("does_not_exist.obj");
         let message = Mesh::load_obj(&path).expect_err("no such file").to_string();
-        assert!(
-            message.contains("does_not_exist.obj") && message.contains("cannot read"),
-            "{message}"
-        );
+        assert!(message.contains("does_not_exist.obj") && message.contains("cannot read"), "{message}");
     }
 
     #[test]
     fn parse_error_names_the_line() {
         // Line 3 has a vertex with two coordinates.
         let message = error_of("# a broken file\nv 0 0 0\nv 1 0\nv 0 1 0\nf 1 2 3\n");
-        assert!(
-            message.contains("line 3") && message.contains("parse"),
-            "{message}"
-        );
+        assert!(message.contains("line 3") && message.contains("parse"), "{message}");
     }
 
     #[test]
@@ -431,14 +362,9 @@ mod tests {
     #[test]
     fn binary_garbage_names_the_line() {
         // Line 2 is not UTF-8 text.
-        let mut file = tempfile::Builder::new()
-            .suffix(".obj")
-            .tempfile()
-            .expect("temporary file");
+        let mut file = tempfile::Builder::new().suffix(".obj").tempfile().expect("temporary file");
         file.write_all(b"v 0 0 0\n\xff\xfe\n").expect("write");
-        let message = Mesh::load_obj(file.path())
-            .expect_err("not text")
-            .to_string();
+        let message = Mesh::load_obj(file.path()).expect_err("not text").to_string();
         assert!(message.contains("line 2"), "{message}");
     }
 
@@ -464,10 +390,7 @@ mod tests {
         for tri in 0..8 {
             let [v0, v1, v2] = prism.triangle(tri);
             let face_centre = (v0 + v1 + v2) / 3.0;
-            assert!(
-                face_normal(&prism, tri).dot(face_centre - centroid) > 0.0,
-                "triangle {tri} faces in"
-            );
+            assert!(face_normal(&prism, tri).dot(face_centre - centroid) > 0.0, "triangle {tri} faces in");
         }
         // Closed: every edge is shared by exactly two triangles, in opposite directions.
         for &[a, b, c] in &prism.triangles {
@@ -493,15 +416,8 @@ mod tests {
         // normals are π − apex apart.
         for apex in [0.3, FRAC_PI_3, FRAC_PI_2, 2.5] {
             let prism = Mesh::triangular_prism(apex, 1.0, 1.0);
-            let between_normals = face_normal(&prism, 2)
-                .dot(face_normal(&prism, 6))
-                .clamp(-1.0, 1.0)
-                .acos();
-            assert!(
-                (PI - between_normals - apex).abs() < 1e-5,
-                "apex {apex}: got {}",
-                PI - between_normals
-            );
+            let between_normals = face_normal(&prism, 2).dot(face_normal(&prism, 6)).clamp(-1.0, 1.0).acos();
+            assert!((PI - between_normals - apex).abs() < 1e-5, "apex {apex}: got {}", PI - between_normals);
         }
     }
 
@@ -522,18 +438,12 @@ mod tests {
             normals: Some(vec![Vec3::new(1.0, 1.0, 0.0).normalize(); 3]),
             triangles: vec![[0, 1, 2]],
         };
-        let transform = Affine3A::from_scale_rotation_translation(
-            Vec3::new(2.0, 1.0, 1.0),
-            Default::default(),
-            Vec3::X,
-        );
+        let transform =
+            Affine3A::from_scale_rotation_translation(Vec3::new(2.0, 1.0, 1.0), Default::default(), Vec3::X);
         let moved = mesh.transformed(&transform);
         assert_eq!(moved.positions[1], Vec3::new(3.0, 0.0, 0.0));
         let normal = moved.normals.as_ref().expect("normals")[0];
-        assert!(
-            (normal - Vec3::new(1.0, 2.0, 0.0).normalize()).length() < 1e-6,
-            "{normal}"
-        );
+        assert!((normal - Vec3::new(1.0, 2.0, 0.0).normalize()).length() < 1e-6, "{normal}");
         assert_eq!(moved.triangles, mesh.triangles);
     }
 
@@ -546,10 +456,7 @@ mod tests {
         let mirrored = prism.transformed(&Affine3A::from_scale(Vec3::new(-1.0, 1.0, 1.0)));
         for tri in 0..8 {
             let [v0, v1, v2] = mirrored.triangle(tri);
-            assert!(
-                face_normal(&mirrored, tri).dot((v0 + v1 + v2) / 3.0) > 0.0,
-                "triangle {tri} faces in"
-            );
+            assert!(face_normal(&mirrored, tri).dot((v0 + v1 + v2) / 3.0) > 0.0, "triangle {tri} faces in");
         }
         let normals = mirrored.normals.as_ref().expect("normals");
         for (p, n) in mirrored.positions.iter().zip(normals) {
@@ -559,11 +466,7 @@ mod tests {
 
     #[test]
     fn validate_catches_bad_meshes() {
-        let bad_index = Mesh {
-            positions: vec![Vec3::ZERO; 3],
-            normals: None,
-            triangles: vec![[0, 1, 3]],
-        };
+        let bad_index = Mesh { positions: vec![Vec3::ZERO; 3], normals: None, triangles: vec![[0, 1, 3]] };
         assert!(bad_index.validate().is_err());
         let bad_normals = Mesh {
             positions: vec![Vec3::ZERO; 3],
@@ -577,19 +480,11 @@ mod tests {
     fn back_side_hit_keeps_the_winding_normal() {
         // The triangle is wound counter-clockwise seen from +z. Hit from below: the hit is
         // reported (two-sided) and the normal stays +z (outward by winding).
-        let mesh = Mesh {
-            positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y],
-            normals: None,
-            triangles: vec![[0, 1, 2]],
-        };
+        let mesh =
+            Mesh { positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y], normals: None, triangles: vec![[0, 1, 2]] };
         let ray = ShearedRay::new(Ray::new(Vec3::new(0.2, 0.2, -1.0), Vec3::Z));
-        let hit = mesh
-            .intersect_triangle(0, &ray, f32::INFINITY, 4)
-            .expect("back side hit");
-        assert_eq!(
-            (hit.t, hit.normal, hit.shading_normal, hit.prim),
-            (1.0, Vec3::Z, Vec3::Z, 4)
-        );
+        let hit = mesh.intersect_triangle(0, &ray, f32::INFINITY, 4).expect("back side hit");
+        assert_eq!((hit.t, hit.normal, hit.shading_normal, hit.prim), (1.0, Vec3::Z, Vec3::Z, 4));
         assert!((hit.point - Vec3::new(0.2, 0.2, 0.0)).length() < 1e-6);
     }
 
@@ -603,24 +498,18 @@ mod tests {
             triangles: vec![[0, 1, 2]],
         };
         let ray = ShearedRay::new(Ray::new(Vec3::new(0.25, 0.25, 1.0), -Vec3::Z));
-        let hit = mesh
-            .intersect_triangle(0, &ray, f32::INFINITY, 0)
-            .expect("hit");
+        let hit = mesh.intersect_triangle(0, &ray, f32::INFINITY, 0).expect("hit");
         let expected = (0.5 * Vec3::new(1.0, 0.0, 1.0).normalize() + 0.5 * Vec3::Z).normalize();
         assert!((hit.shading_normal - expected).length() < 1e-6);
         assert_eq!(hit.normal, Vec3::Z);
         // Vertex normals on the other side are turned to the side of the geometric normal.
         mesh.normals = Some(vec![-Vec3::Z; 3]);
-        let turned = mesh
-            .intersect_triangle(0, &ray, f32::INFINITY, 0)
-            .expect("hit");
+        let turned = mesh.intersect_triangle(0, &ray, f32::INFINITY, 0).expect("hit");
         assert_eq!(turned.shading_normal, Vec3::Z);
         // Vertex normals that cancel at the hit point (0.5·x − 0.25·x − 0.25·x = 0): the
         // geometric normal is used.
         mesh.normals = Some(vec![Vec3::X, -Vec3::X, -Vec3::X]);
-        let vanishing = mesh
-            .intersect_triangle(0, &ray, f32::INFINITY, 0)
-            .expect("hit");
+        let vanishing = mesh.intersect_triangle(0, &ray, f32::INFINITY, 0).expect("hit");
         assert_eq!(vanishing.shading_normal, Vec3::Z);
     }
 }

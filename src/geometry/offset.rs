@@ -47,19 +47,11 @@ const POINT_ROUNDINGS: u32 = 2;
 /// not pass the shading normal, which may point into the surface.
 #[inline]
 pub fn spawn_origin(point: Vec3, normal: Vec3, dir: Vec3) -> Vec3 {
-    let side = if dir.dot(normal) < 0.0 {
-        -normal
-    } else {
-        normal
-    };
+    let side = if dir.dot(normal) < 0.0 { -normal } else { normal };
     // Bound on the error of `point` projected on the normal: Σ |n_i|·γ(2)·|p_i|.
     let distance = normal.abs().dot(point.abs() * gamma(POINT_ROUNDINGS));
     let pushed = point + distance * side;
-    Vec3::new(
-        round_away(pushed.x, side.x),
-        round_away(pushed.y, side.y),
-        round_away(pushed.z, side.z),
-    )
+    Vec3::new(round_away(pushed.x, side.x), round_away(pushed.y, side.y), round_away(pushed.z, side.z))
 }
 
 /// `value` moved to the next float in the direction of the sign of `direction` (unchanged when
@@ -104,10 +96,7 @@ mod tests {
         let pushed = spawn_origin(point, Vec3::Y, Vec3::Y);
         let ulp = 1000f32.next_up() - 1000.0;
         let moved = pushed.y - point.y;
-        assert!(
-            moved >= ulp && moved <= 4.0 * ulp,
-            "moved {moved}, ulp {ulp}"
-        );
+        assert!(moved >= ulp && moved <= 4.0 * ulp, "moved {moved}, ulp {ulp}");
     }
 
     #[test]

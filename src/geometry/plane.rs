@@ -45,13 +45,7 @@ impl Plane {
         }
         let on_ray = ray.at(t);
         let point = on_ray - (on_ray - self.point).dot(self.normal) * self.normal;
-        Some(Hit {
-            t,
-            point,
-            normal: self.normal,
-            shading_normal: self.normal,
-            prim,
-        })
+        Some(Hit { t, point, normal: self.normal, shading_normal: self.normal, prim })
     }
 }
 
@@ -61,10 +55,7 @@ mod tests {
     use crate::geometry::spawn_origin;
     use crate::geometry::test_util::Rng;
 
-    const FLOOR: Plane = Plane {
-        point: Vec3::ZERO,
-        normal: Vec3::Y,
-    };
+    const FLOOR: Plane = Plane { point: Vec3::ZERO, normal: Vec3::Y };
 
     fn ray(origin: Vec3, dir: Vec3) -> Ray {
         Ray::new(origin, dir.normalize())
@@ -73,20 +64,14 @@ mod tests {
     #[test]
     fn hit_from_above_and_below_keeps_the_normal() {
         // From y = 2 straight down: t = 2 at (1, 0, 1), normal +y.
-        let above = FLOOR
-            .intersect(&ray(Vec3::new(1.0, 2.0, 1.0), -Vec3::Y), f32::INFINITY, 5)
-            .expect("hit");
+        let above = FLOOR.intersect(&ray(Vec3::new(1.0, 2.0, 1.0), -Vec3::Y), f32::INFINITY, 5).expect("hit");
         assert_eq!(
             (above.t, above.point, above.normal, above.prim),
             (2.0, Vec3::new(1.0, 0.0, 1.0), Vec3::Y, 5)
         );
         // From below at 45°: t = √2·3, and the normal is still the plane's (+y).
         let below = FLOOR
-            .intersect(
-                &ray(Vec3::new(0.0, -3.0, 0.0), Vec3::new(1.0, 1.0, 0.0)),
-                f32::INFINITY,
-                0,
-            )
+            .intersect(&ray(Vec3::new(0.0, -3.0, 0.0), Vec3::new(1.0, 1.0, 0.0)), f32::INFINITY, 0)
             .expect("hit");
         assert!((below.t - 3.0 * 2f32.sqrt()).abs() < 1e-6);
         assert_eq!(below.normal, Vec3::Y);
@@ -95,18 +80,10 @@ mod tests {
 
     #[test]
     fn parallel_ray_and_plane_behind_miss() {
-        assert!(FLOOR
-            .intersect(&ray(Vec3::new(0.0, 1.0, 0.0), Vec3::X), f32::INFINITY, 0)
-            .is_none());
-        assert!(FLOOR
-            .intersect(&ray(Vec3::new(0.0, 0.0, 0.0), Vec3::X), f32::INFINITY, 0)
-            .is_none());
-        assert!(FLOOR
-            .intersect(&ray(Vec3::new(0.0, 1.0, 0.0), Vec3::Y), f32::INFINITY, 0)
-            .is_none());
-        assert!(FLOOR
-            .intersect(&ray(Vec3::new(0.0, 1.0, 0.0), -Vec3::Y), 0.5, 0)
-            .is_none());
+        assert!(FLOOR.intersect(&ray(Vec3::new(0.0, 1.0, 0.0), Vec3::X), f32::INFINITY, 0).is_none());
+        assert!(FLOOR.intersect(&ray(Vec3::new(0.0, 0.0, 0.0), Vec3::X), f32::INFINITY, 0).is_none());
+        assert!(FLOOR.intersect(&ray(Vec3::new(0.0, 1.0, 0.0), Vec3::Y), f32::INFINITY, 0).is_none());
+        assert!(FLOOR.intersect(&ray(Vec3::new(0.0, 1.0, 0.0), -Vec3::Y), 0.5, 0).is_none());
     }
 
     #[test]
@@ -123,26 +100,11 @@ mod tests {
                 normal: rng.unit_vector(),
             };
             let dir = rng.unit_vector();
-            assert_eq!(
-                tilted.intersect(&ray(tilted.point, dir), f32::INFINITY, 0),
-                None,
-                "{tilted:?}"
-            );
+            assert_eq!(tilted.intersect(&ray(tilted.point, dir), f32::INFINITY, 0), None, "{tilted:?}");
             let height = rng.uniform(-1000.0, 1000.0);
-            let level = Plane {
-                point: Vec3::new(0.0, height, 0.0),
-                normal: Vec3::Y,
-            };
-            let on_level = Vec3::new(
-                rng.uniform(-1000.0, 1000.0),
-                height,
-                rng.uniform(-1000.0, 1000.0),
-            );
-            assert_eq!(
-                level.intersect(&ray(on_level, dir), f32::INFINITY, 0),
-                None,
-                "{level:?}"
-            );
+            let level = Plane { point: Vec3::new(0.0, height, 0.0), normal: Vec3::Y };
+            let on_level = Vec3::new(rng.uniform(-1000.0, 1000.0), height, rng.uniform(-1000.0, 1000.0));
+            assert_eq!(level.intersect(&ray(on_level, dir), f32::INFINITY, 0), None, "{level:?}");
         }
     }
 
@@ -150,11 +112,7 @@ mod tests {
     fn grazing_ray_hits_far_away() {
         // Descending 1 in 1000 from y = 1: reaches the floor after √(1000² + 1) ≈ 1000.0005.
         let hit = FLOOR
-            .intersect(
-                &ray(Vec3::new(0.0, 1.0, 0.0), Vec3::new(1000.0, -1.0, 0.0)),
-                f32::INFINITY,
-                0,
-            )
+            .intersect(&ray(Vec3::new(0.0, 1.0, 0.0), Vec3::new(1000.0, -1.0, 0.0)), f32::INFINITY, 0)
             .expect("grazing hit");
         assert!((hit.t - 1000.0005).abs() < 1e-3, "t = {}", hit.t);
     }
@@ -169,8 +127,7 @@ mod tests {
                 point: rng.point_in(Vec3::splat(-1000.0), Vec3::splat(1000.0)),
                 normal: rng.unit_vector(),
             };
-            let target =
-                plane.point + rng.uniform(0.0, 50.0) * rng.unit_vector().cross(plane.normal);
+            let target = plane.point + rng.uniform(0.0, 50.0) * rng.unit_vector().cross(plane.normal);
             let from = target + rng.uniform(0.1, 500.0) * rng.unit_vector();
             let Some(hit) = plane.intersect(&ray(from, target - from), f32::INFINITY, 0) else {
                 continue;

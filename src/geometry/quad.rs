@@ -40,12 +40,7 @@ impl Quad {
     /// The four corners, counter-clockwise seen from the outside: (0,0), (1,0), (1,1), (0,1).
     pub fn corners(&self) -> [Vec3; 4] {
         let far = self.corner + self.edge1 + self.edge2;
-        [
-            self.corner,
-            self.corner + self.edge1,
-            far,
-            self.corner + self.edge2,
-        ]
+        [self.corner, self.corner + self.edge1, far, self.corner + self.edge2]
     }
 
     /// The bounding box of the four corners.
@@ -72,13 +67,7 @@ impl Quad {
         });
         let (t, u, v) = upper.or(lower)?;
         let normal = self.edge1.cross(self.edge2).try_normalize()?;
-        Some(Hit {
-            t,
-            point: self.point_at(u, v),
-            normal,
-            shading_normal: normal,
-            prim,
-        })
+        Some(Hit { t, point: self.point_at(u, v), normal, shading_normal: normal, prim })
     }
 }
 
@@ -90,18 +79,11 @@ mod tests {
     use crate::geometry::Ray;
 
     /// The square [0,2]×[0,1] in z = 0, normal +z.
-    const SQUARE: Quad = Quad {
-        corner: Vec3::ZERO,
-        edge1: Vec3::new(2.0, 0.0, 0.0),
-        edge2: Vec3::new(0.0, 1.0, 0.0),
-    };
+    const SQUARE: Quad =
+        Quad { corner: Vec3::ZERO, edge1: Vec3::new(2.0, 0.0, 0.0), edge2: Vec3::new(0.0, 1.0, 0.0) };
 
     fn intersect(quad: &Quad, origin: Vec3, dir: Vec3) -> Option<Hit> {
-        quad.intersect(
-            &ShearedRay::new(Ray::new(origin, dir.normalize())),
-            f32::INFINITY,
-            9,
-        )
+        quad.intersect(&ShearedRay::new(Ray::new(origin, dir.normalize())), f32::INFINITY, 9)
     }
 
     #[test]
@@ -126,11 +108,7 @@ mod tests {
         // Parallel, above the quad and in its plane.
         assert!(intersect(&SQUARE, Vec3::new(-1.0, 0.5, 1.0), Vec3::X).is_none());
         assert!(intersect(&SQUARE, Vec3::new(-1.0, 0.5, 0.0), Vec3::X).is_none());
-        let line = Quad {
-            corner: Vec3::ZERO,
-            edge1: Vec3::X,
-            edge2: 2.0 * Vec3::X,
-        };
+        let line = Quad { corner: Vec3::ZERO, edge1: Vec3::X, edge2: 2.0 * Vec3::X };
         assert!(intersect(&line, Vec3::new(0.5, 0.0, 1.0), -Vec3::Z).is_none());
     }
 
@@ -154,10 +132,7 @@ mod tests {
             if dir.z.abs() < 1e-3 {
                 continue;
             }
-            assert!(
-                intersect(&SQUARE, on_diagonal - 3.0 * dir, dir).is_some(),
-                "leak at {on_diagonal}"
-            );
+            assert!(intersect(&SQUARE, on_diagonal - 3.0 * dir, dir).is_some(), "leak at {on_diagonal}");
         }
     }
 

@@ -15,10 +15,7 @@ impl Ray {
     /// A ray from `origin` along the unit vector `dir`.
     #[inline]
     pub fn new(origin: Vec3, dir: Vec3) -> Self {
-        debug_assert!(
-            (dir.length_squared() - 1.0).abs() < 1e-3,
-            "ray direction not unit: {dir}"
-        );
+        debug_assert!((dir.length_squared() - 1.0).abs() < 1e-3, "ray direction not unit: {dir}");
         Self { origin, dir }
     }
     /// The point at distance `t`.

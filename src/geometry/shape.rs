@@ -42,13 +42,7 @@ impl Shape {
     /// # Panics
     /// As [`Self::bounds`].
     #[inline]
-    pub fn intersect(
-        &self,
-        meshes: &[Mesh],
-        ray: &ShearedRay,
-        t_max: f32,
-        prim: u32,
-    ) -> Option<Hit> {
+    pub fn intersect(&self, meshes: &[Mesh], ray: &ShearedRay, t_max: f32, prim: u32) -> Option<Hit> {
         match self {
             Shape::Sphere(sphere) => sphere.intersect(&ray.ray, t_max, prim),
             Shape::Plane(plane) => plane.intersect(&ray.ray, t_max, prim),

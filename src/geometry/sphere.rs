@@ -32,10 +32,7 @@ impl Sphere {
     /// The bounding box: the centre ± the radius.
     pub fn bounds(&self) -> Aabb {
         let extent = Vec3::splat(self.radius);
-        Aabb {
-            min: self.center - extent,
-            max: self.center + extent,
-        }
+        Aabb { min: self.center - extent, max: self.center + extent }
     }
 
     /// The nearest intersection with t in (0, `t_max`), from outside or inside; `prim` is copied
@@ -82,13 +79,7 @@ impl Sphere {
         // the error of t along the ray.
         let normal = (to_origin + t * dir).try_normalize()?;
         let point = self.center + self.radius * normal;
-        Some(Hit {
-            t,
-            point,
-            normal,
-            shading_normal: normal,
-            prim,
-        })
+        Some(Hit { t, point, normal, shading_normal: normal, prim })
     }
 }
 
@@ -98,10 +89,7 @@ pub(crate) mod tests {
     use crate::geometry::spawn_origin;
     use crate::geometry::test_util::{far_side_distance, far_side_tolerance, Rng};
 
-    const UNIT: Sphere = Sphere {
-        center: Vec3::ZERO,
-        radius: 1.0,
-    };
+    const UNIT: Sphere = Sphere { center: Vec3::ZERO, radius: 1.0 };
 
     fn ray(origin: Vec3, dir: Vec3) -> Ray {
         Ray::new(origin, dir.normalize())
@@ -111,9 +99,7 @@ pub(crate) mod tests {
     fn hit_from_outside() {
         // From z = 5 towards the centre of the unit sphere: first surface at t = 4, point (0,0,1),
         // normal +z (away from the centre).
-        let hit = UNIT
-            .intersect(&ray(Vec3::new(0.0, 0.0, 5.0), -Vec3::Z), f32::INFINITY, 3)
-            .expect("hit");
+        let hit = UNIT.intersect(&ray(Vec3::new(0.0, 0.0, 5.0), -Vec3::Z), f32::INFINITY, 3).expect("hit");
         assert_eq!(hit.t, 4.0);
         assert_eq!(hit.point, Vec3::Z);
         assert_eq!(hit.normal, Vec3::Z);
@@ -125,25 +111,17 @@ pub(crate) mod tests {
     fn hit_from_inside_has_the_outward_normal() {
         // From the centre, the sphere is hit at t = r = 1; the normal still points away from the
         // centre, i.e. along the ray.
-        let hit = UNIT
-            .intersect(&ray(Vec3::ZERO, Vec3::X), f32::INFINITY, 0)
-            .expect("hit");
+        let hit = UNIT.intersect(&ray(Vec3::ZERO, Vec3::X), f32::INFINITY, 0).expect("hit");
         assert_eq!(hit.t, 1.0);
         assert_eq!(hit.normal, Vec3::X);
     }
 
     #[test]
     fn misses_behind_beside_and_beyond_t_max() {
-        assert!(UNIT
-            .intersect(&ray(Vec3::new(0.0, 0.0, 5.0), Vec3::Z), f32::INFINITY, 0)
-            .is_none());
-        assert!(UNIT
-            .intersect(&ray(Vec3::new(0.0, 1.5, 5.0), -Vec3::Z), f32::INFINITY, 0)
-            .is_none());
+        assert!(UNIT.intersect(&ray(Vec3::new(0.0, 0.0, 5.0), Vec3::Z), f32::INFINITY, 0).is_none());
+        assert!(UNIT.intersect(&ray(Vec3::new(0.0, 1.5, 5.0), -Vec3::Z), f32::INFINITY, 0).is_none());
         // The surface at t = 4 is beyond t_max = 3.9.
-        assert!(UNIT
-            .intersect(&ray(Vec3::new(0.0, 0.0, 5.0), -Vec3::Z), 3.9, 0)
-            .is_none());
+        assert!(UNIT.intersect(&ray(Vec3::new(0.0, 0.0, 5.0), -Vec3::Z), 3.9, 0).is_none());
     }
 
     #[test]
@@ -152,19 +130,11 @@ pub(crate) mod tests {
         // 2·√(1 − 0.999²) ≈ 0.0894 centred at t = 5.
         let offset = 1.0 - 1e-3;
         let grazing = ray(Vec3::new(-5.0, offset, 0.0), Vec3::X);
-        let hit = UNIT
-            .intersect(&grazing, f32::INFINITY, 0)
-            .expect("grazing hit");
+        let hit = UNIT.intersect(&grazing, f32::INFINITY, 0).expect("grazing hit");
         let half_chord = (1.0f32 - offset * offset).sqrt();
         assert!((hit.t - (5.0 - half_chord)).abs() < 1e-4, "t = {}", hit.t);
         // Passing at 1 + 1e-3 misses.
-        assert!(UNIT
-            .intersect(
-                &ray(Vec3::new(-5.0, 1.0 + 1e-3, 0.0), Vec3::X),
-                f32::INFINITY,
-                0
-            )
-            .is_none());
+        assert!(UNIT.intersect(&ray(Vec3::new(-5.0, 1.0 + 1e-3, 0.0), Vec3::X), f32::INFINITY, 0).is_none());
     }
 
     #[test]
@@ -172,20 +142,13 @@ pub(crate) mod tests {
         // r = 0.01 seen from 1000 units: the textbook discriminant b² − c would lose everything
         // (b² ≈ 1e6, 1 ULP ≈ 0.06 ≫ r² = 1e-4); this one finds the front at t = 1000 − 0.01 to
         // within a few ULPs of 1000.
-        let sphere = Sphere {
-            center: Vec3::new(0.0, 0.0, -1000.0),
-            radius: 0.01,
-        };
-        let hit = sphere
-            .intersect(&ray(Vec3::ZERO, -Vec3::Z), f32::INFINITY, 0)
-            .expect("hit");
+        let sphere = Sphere { center: Vec3::new(0.0, 0.0, -1000.0), radius: 0.01 };
+        let hit = sphere.intersect(&ray(Vec3::ZERO, -Vec3::Z), f32::INFINITY, 0).expect("hit");
         assert!((hit.t - 999.99).abs() < 4e-4, "t = {}", hit.t);
         // Reprojected: exactly on the sphere to within f32 rounding at 1000.
         assert!(((hit.point - sphere.center).length() - 0.01).abs() < 1e-4);
         // Aimed 0.02 to the side: a miss.
-        assert!(sphere
-            .intersect(&ray(Vec3::new(0.02, 0.0, 0.0), -Vec3::Z), f32::INFINITY, 0)
-            .is_none());
+        assert!(sphere.intersect(&ray(Vec3::new(0.02, 0.0, 0.0), -Vec3::Z), f32::INFINITY, 0).is_none());
     }
 
     #[test]
@@ -198,10 +161,7 @@ pub(crate) mod tests {
             let normal = rng.unit_vector();
             let on_surface = UNIT.center + UNIT.radius * normal;
             let outward = rng.unit_vector_around(normal);
-            assert_eq!(
-                UNIT.intersect(&ray(on_surface, outward), f32::INFINITY, 0),
-                None
-            );
+            assert_eq!(UNIT.intersect(&ray(on_surface, outward), f32::INFINITY, 0), None);
             let inward = rng.unit_vector_around(-normal);
             let hit = UNIT.intersect(&ray(on_surface, inward), f32::INFINITY, 0);
             check_far_side(&UNIT, on_surface, inward, hit);
@@ -219,21 +179,15 @@ pub(crate) mod tests {
             (Some(hit), Some(expected)) => {
                 let tolerance = far_side_tolerance(sphere.radius, expected);
                 let error = (f64::from(hit.t) - expected).abs();
-                assert!(
-                    error < tolerance,
-                    "{context}: t {} instead of {expected}",
-                    hit.t
-                );
+                assert!(error < tolerance, "{context}: t {} instead of {expected}", hit.t);
             }
             (None, expected) => assert!(
                 expected.is_none_or(|t| t < grazing),
                 "{context}: missed the far side at {expected:?}"
             ),
-            (Some(hit), None) => assert!(
-                f64::from(hit.t) < grazing,
-                "{context}: hit at {} although the line misses",
-                hit.t
-            ),
+            (Some(hit), None) => {
+                assert!(f64::from(hit.t) < grazing, "{context}: hit at {} although the line misses", hit.t)
+            }
         }
     }
 
@@ -241,15 +195,10 @@ pub(crate) mod tests {
     fn spawned_transmission_hits_the_far_side() {
         // r = 0.01 at 1000 units from the origin, hit from outside; the refracted ray spawned
         // with spawn_origin must exit through the far side, not re-hit the entry point.
-        let sphere = Sphere {
-            center: Vec3::new(600.0, -800.0, 5.0),
-            radius: 0.01,
-        };
+        let sphere = Sphere { center: Vec3::new(600.0, -800.0, 5.0), radius: 0.01 };
         let camera = Vec3::new(0.0, 0.0, 5.0);
         let to_sphere = (sphere.center - camera).normalize();
-        let hit = sphere
-            .intersect(&ray(camera, to_sphere), f32::INFINITY, 0)
-            .expect("hit");
+        let hit = sphere.intersect(&ray(camera, to_sphere), f32::INFINITY, 0).expect("hit");
         let inward = (-hit.normal + 0.3 * Vec3::Z).normalize();
         let origin = spawn_origin(hit.point, hit.normal, inward);
         let exit = sphere.intersect(&ray(origin, inward), f32::INFINITY, 0);
@@ -261,10 +210,7 @@ pub(crate) mod tests {
 
     #[test]
     fn bounds_enclose_the_sphere() {
-        let sphere = Sphere {
-            center: Vec3::new(1.0, 2.0, 3.0),
-            radius: 0.5,
-        };
+        let sphere = Sphere { center: Vec3::new(1.0, 2.0, 3.0), radius: 0.5 };
         let bounds = sphere.bounds();
         assert_eq!(bounds.min, Vec3::new(0.5, 1.5, 2.5));
         assert_eq!(bounds.max, Vec3::new(1.5, 2.5, 3.5));

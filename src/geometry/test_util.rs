@@ -22,11 +22,7 @@ impl Rng {
 
     /// Uniform in the box [`low`, `high`).
     pub(crate) fn point_in(&mut self, low: Vec3, high: Vec3) -> Vec3 {
-        Vec3::new(
-            self.uniform(low.x, high.x),
-            self.uniform(low.y, high.y),
-            self.uniform(low.z, high.z),
-        )
+        Vec3::new(self.uniform(low.x, high.x), self.uniform(low.y, high.y), self.uniform(low.z, high.z))
     }
 
     /// Uniform on the unit sphere (Archimedes: z uniform in [−1, 1], azimuth uniform).
@@ -63,11 +59,7 @@ pub(crate) fn far_side_tolerance(radius: f32, expected: f64) -> f64 {
 
 /// The exact (f64) distance from `origin` along the unit `dir` to the far side of `sphere`, where
 /// a ray from inside exits; `None` when the line misses the sphere. The reference for f32 hits.
-pub(crate) fn far_side_distance(
-    sphere: &crate::geometry::Sphere,
-    origin: Vec3,
-    dir: Vec3,
-) -> Option<f64> {
+pub(crate) fn far_side_distance(sphere: &crate::geometry::Sphere, origin: Vec3, dir: Vec3) -> Option<f64> {
     let f = origin.as_dvec3() - sphere.center.as_dvec3();
     let d = dir.as_dvec3();
     let b = -f.dot(d);

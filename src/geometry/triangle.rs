@@ -41,11 +41,7 @@ impl ShearedRay {
             std::mem::swap(&mut x, &mut y);
         }
         let shear = Vec3::new(-dir[x] / dir[z], -dir[y] / dir[z], 1.0 / dir[z]);
-        Self {
-            ray,
-            axes: [x, y, z],
-            shear,
-        }
+        Self { ray, axes: [x, y, z], shear }
     }
 }
 
@@ -72,11 +68,7 @@ impl TriangleHit {
 /// The intersection of `ray` with the triangle `vertices`, for t in (0, `t_max`), from either
 /// side. Degenerate (zero-area) triangles are never hit.
 #[inline]
-pub fn intersect_triangle(
-    ray: &ShearedRay,
-    vertices: &[Vec3; 3],
-    t_max: f32,
-) -> Option<TriangleHit> {
+pub fn intersect_triangle(ray: &ShearedRay, vertices: &[Vec3; 3], t_max: f32) -> Option<TriangleHit> {
     let [kx, ky, kz] = ray.axes;
     let shear = ray.shear;
     // Vertices relative to the origin, permuted so that the ray runs along z, then sheared so
@@ -90,19 +82,11 @@ pub fn intersect_triangle(
     let (a, a_z) = relative(vertices[0]);
     let (b, b_z) = relative(vertices[1]);
     let (c, c_z) = relative(vertices[2]);
-    let mut edges = [
-        edge_function(c, b),
-        edge_function(a, c),
-        edge_function(b, a),
-    ];
+    let mut edges = [edge_function(c, b), edge_function(a, c), edge_function(b, a)];
     if edges[0] == 0.0 || edges[1] == 0.0 || edges[2] == 0.0 {
         // An exact zero in f32 may hide the sign; f64 holds the products exactly and rounds
         // the difference once, so the sign is right and shared edges stay consistent.
-        edges = [
-            edge_function_f64(c, b),
-            edge_function_f64(a, c),
-            edge_function_f64(b, a),
-        ];
+        edges = [edge_function_f64(c, b), edge_function_f64(a, c), edge_function_f64(b, a)];
     }
     let [e0, e1, e2] = edges;
     let any_negative = e0 < 0.0 || e1 < 0.0 || e2 < 0.0;
@@ -132,10 +116,7 @@ pub fn intersect_triangle(
     if !accepted {
         return None;
     }
-    Some(TriangleHit {
-        t,
-        barycentric: [e0 * inv_det, e1 * inv_det, e2 * inv_det],
-    })
+    Some(TriangleHit { t, barycentric: [e0 * inv_det, e1 * inv_det, e2 * inv_det] })
 }
 
 /// Twice the signed area of the 2D triangle (origin, p, q): positive when the origin sees p
@@ -172,11 +153,8 @@ mod tests {
     use crate::geometry::spawn_origin;
     use crate::geometry::test_util::Rng;
 
-    const TRIANGLE: [Vec3; 3] = [
-        Vec3::new(0.0, 0.0, 0.0),
-        Vec3::new(1.0, 0.0, 0.0),
-        Vec3::new(0.0, 1.0, 0.0),
-    ];
+    const TRIANGLE: [Vec3; 3] =
+        [Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0)];
 
     fn intersect(origin: Vec3, dir: Vec3, vertices: &[Vec3; 3]) -> Option<TriangleHit> {
         let ray = ShearedRay::new(Ray::new(origin, dir.normalize()));
@@ -224,11 +202,7 @@ mod tests {
         let dir = Vec3::new(1.0, 0.0, -1e-3).normalize();
         let start = target - Vec3::new(0.5, 0.0, -0.5e-3);
         let hit = intersect(start, dir, &TRIANGLE).expect("grazing hit");
-        assert!(
-            (hit.t - 0.5 * (1.0f32 + 1e-6).sqrt()).abs() < 1e-5,
-            "t = {}",
-            hit.t
-        );
+        assert!((hit.t - 0.5 * (1.0f32 + 1e-6).sqrt()).abs() < 1e-5, "t = {}", hit.t);
         assert!((hit.point(&TRIANGLE) - target).length() < 1e-5);
     }
 
@@ -237,11 +211,7 @@ mod tests {
         // Two triangles sharing the diagonal (1,0,0)–(0,1,0) of the unit square. Rays through
         // points exactly on that edge, from random directions, must hit at least one of them.
         let first = TRIANGLE;
-        let second = [
-            Vec3::new(1.0, 0.0, 0.0),
-            Vec3::new(1.0, 1.0, 0.0),
-            Vec3::new(0.0, 1.0, 0.0),
-        ];
+        let second = [Vec3::new(1.0, 0.0, 0.0), Vec3::new(1.0, 1.0, 0.0), Vec3::new(0.0, 1.0, 0.0)];
         let mut rng = Rng::new(7);
         for _ in 0..10_000 {
             let s = rng.uniform(0.0, 1.0);
@@ -251,14 +221,8 @@ mod tests {
                 dir = Vec3::Z;
             }
             let origin = on_edge - 5.0 * dir;
-            let hits = [
-                intersect(origin, dir, &first),
-                intersect(origin, dir, &second),
-            ];
-            assert!(
-                hits.iter().any(Option::is_some),
-                "leak at {on_edge} along {dir}"
-            );
+            let hits = [intersect(origin, dir, &first), intersect(origin, dir, &second)];
+            assert!(hits.iter().any(Option::is_some), "leak at {on_edge} along {dir}");
         }
     }
 
@@ -268,26 +232,14 @@ mod tests {
         // be ~0 and the error bound rejects it, in both directions. (Far from the world origin,
         // the rounding of the point's coordinates exceeds the triangle's own error bound and
         // the push of spawn_origin is needed: see the next test and accel.rs.)
-        let vertices = [
-            Vec3::new(0.3, 0.2, -0.7),
-            Vec3::new(1.5, 0.4, 0.1),
-            Vec3::new(0.2, 1.9, -0.5),
-        ];
+        let vertices = [Vec3::new(0.3, 0.2, -0.7), Vec3::new(1.5, 0.4, 0.1), Vec3::new(0.2, 1.9, -0.5)];
         let mut rng = Rng::new(11);
         for _ in 0..10_000 {
             let b1 = rng.uniform(0.0, 0.5);
             let b2 = rng.uniform(0.0, 0.5);
-            let on_surface = TriangleHit {
-                t: 0.0,
-                barycentric: [1.0 - b1 - b2, b1, b2],
-            }
-            .point(&vertices);
+            let on_surface = TriangleHit { t: 0.0, barycentric: [1.0 - b1 - b2, b1, b2] }.point(&vertices);
             let dir = rng.unit_vector();
-            assert_eq!(
-                intersect(on_surface, dir, &vertices),
-                None,
-                "re-hit from {on_surface} along {dir}"
-            );
+            assert_eq!(intersect(on_surface, dir, &vertices), None, "re-hit from {on_surface} along {dir}");
         }
     }
 
@@ -295,23 +247,14 @@ mod tests {
     fn spawned_ray_does_not_hit_its_triangle() {
         // Hit points of real intersections with a small triangle 100 units away, pushed with
         // spawn_origin, sent to either side in random directions.
-        let vertices = [
-            Vec3::new(100.0, 3.0, -7.0),
-            Vec3::new(101.5, 3.2, -6.0),
-            Vec3::new(100.2, 4.9, -6.5),
-        ];
-        let normal = (vertices[1] - vertices[0])
-            .cross(vertices[2] - vertices[0])
-            .normalize();
+        let vertices =
+            [Vec3::new(100.0, 3.0, -7.0), Vec3::new(101.5, 3.2, -6.0), Vec3::new(100.2, 4.9, -6.5)];
+        let normal = (vertices[1] - vertices[0]).cross(vertices[2] - vertices[0]).normalize();
         let mut rng = Rng::new(13);
         for _ in 0..2_000 {
             let b1 = rng.uniform(0.0, 0.5);
             let b2 = rng.uniform(0.0, 0.5);
-            let target = TriangleHit {
-                t: 0.0,
-                barycentric: [1.0 - b1 - b2, b1, b2],
-            }
-            .point(&vertices);
+            let target = TriangleHit { t: 0.0, barycentric: [1.0 - b1 - b2, b1, b2] }.point(&vertices);
             let from = target + 10.0 * rng.unit_vector();
             let Some(hit) = intersect(from, target - from, &vertices) else {
                 continue;
@@ -320,11 +263,7 @@ mod tests {
             for _ in 0..5 {
                 let dir = rng.unit_vector();
                 let origin = spawn_origin(point, normal, dir);
-                assert_eq!(
-                    intersect(origin, dir, &vertices),
-                    None,
-                    "re-hit from {origin} along {dir}"
-                );
+                assert_eq!(intersect(origin, dir, &vertices), None, "re-hit from {origin} along {dir}");
             }
         }
     }

@@ -22,9 +22,9 @@ pub fn write_png(
         .iter()
         .flat_map(|p| (*p * scale).to_array())
         .map(|v| {
-            // NaN maps to 0 through `max`; the renderer never produces NaN, this only keeps the
-            // preview writer total.
-            (srgb_encode(v.max(0.0).min(1.0)) * 255.0 + 0.5) as u8
+            // The renderer never produces NaN; `as u8` saturates (NaN → 0), which keeps the
+            // preview writer total anyway.
+            (srgb_encode(v.clamp(0.0, 1.0)) * 255.0 + 0.5) as u8
         })
         .collect();
     write_atomically(path, |tmp| {

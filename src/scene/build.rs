@@ -391,7 +391,8 @@ impl Builder<'_> {
             edge1: self.direction(e1, span.clone(), &format!("{at}.edge1"))?,
             edge2: self.direction(e2, span.clone(), &format!("{at}.edge2"))?,
         };
-        if !(quad.area() > 0.0) {
+        // A NaN area cannot happen: the edges were checked finite.
+        if quad.area() <= 0.0 {
             return Err(self.error(
                 span,
                 format!("{at}.edge2"),
