@@ -1,11 +1,11 @@
 //! Subcommands of the `prisma` binary, one file each, and the error type that maps failures to
 //! exit codes.
 
+mod export;
 mod fresnel;
 mod glass;
 mod plot;
 mod render;
-mod spectra;
 
 use std::path::PathBuf;
 
@@ -23,8 +23,8 @@ pub struct Cli {
 enum Command {
     /// Render a scene file to an OpenEXR image and a PNG preview.
     Render(render::RenderArgs),
-    /// Tabulate every spectrum of a scene as prisma evaluates it (JSON, one value per nm).
-    Spectra(spectra::SpectraArgs),
+    /// Export a scene as prisma resolved it: spectra.json (spectra and IORs per nm) and meshes as OBJ.
+    Export(export::ExportArgs),
     /// Fresnel reflectance curves of an interface (CSV, plots), or a Mitsuba fixture against prisma.
     Fresnel(fresnel::FresnelArgs),
     /// The glass catalogue: n_d, V_d and sources, n(λ) tables and plots.
@@ -59,7 +59,7 @@ impl CliError {
 pub fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
         Some(Command::Render(args)) => render::run(&args),
-        Some(Command::Spectra(args)) => spectra::run(&args),
+        Some(Command::Export(args)) => export::run(&args),
         Some(Command::Fresnel(args)) => fresnel::run(&args),
         Some(Command::Glass(args)) => glass::run(&args),
         None => render::run(&render::RenderArgs::default_scene(default_scene())),

@@ -1,9 +1,12 @@
-//! `prisma spectra`: every spectrum of a scene as prisma evaluates it, tabulated per nm, as JSON.
+//! `prisma export`: a scene as prisma resolved it, for other renderers: `spectra.json` (every
+//! spectrum and IOR tabulated per nm) and `mesh_<k>.obj` (the k-th mesh or prism shape of the
+//! file, triangles in scene space, counter-clockwise seen from outside).
 //!
-//! The Mitsuba translation scripts in `validation/mitsuba/` read this instead of re-implementing
-//! prisma's RGB upsampling, so a difference in upsampling can neither cause nor hide a validation
-//! failure.
+//! The Mitsuba translation scripts in `validation/mitsuba/` read these instead of re-implementing
+//! prisma's RGB upsampling or prism construction, so a difference there can neither cause nor
+//! hide a validation failure.
 
+use std::fmt::Write as _;
 use std::path::PathBuf;
 
 use anyhow::{anyhow, Context};
@@ -16,21 +19,21 @@ use prisma::material::Material;
 use prisma::optics::Ior;
 use prisma::spectrum::{Spectrum, LAMBDA_MAX_NM, LAMBDA_MIN_NM};
 
-/// Arguments of `prisma spectra`.
+/// Arguments of `prisma export`.
 #[derive(Debug, Args)]
-pub struct SpectraArgs {
+pub struct ExportArgs {
     /// Scene file.
     scene: PathBuf,
-    /// Output JSON file [default: standard output].
-    #[arg(short, long, value_name = "OUT.json")]
-    output: Option<PathBuf>,
+    /// Output directory (created if needed).
+    #[arg(short, long, value_name = "DIR")]
+    output: PathBuf,
     /// Wavelength step in nm.
     #[arg(long, value_name = "NM", default_value_t = 1.0)]
     step_nm: f32,
 }
 
-/// Runs `prisma spectra`.
-pub fn run(args: &SpectraArgs) -> Result<(), CliError> {
+/// Runs `prisma export`.
+pub fn run(args: &ExportArgs) -> Result<(), CliError> {
     if !(args.step_nm.is_finite() && args.step_nm >= 0.1 && args.step_nm <= 100.0) {
         return Err(CliError::Input(anyhow!("--step-nm must be in [0.1, 100], got {}", args.step_nm)));
     }
@@ -71,16 +74,28 @@ pub fn run(args: &SpectraArgs) -> Result<(), CliError> {
         "lights": lights,
     });
     let text = serde_json::to_string_pretty(&document).map_err(|e| CliError::Failed(e.into()))?;
-    match &args.output {
-        Some(path) => prisma::output::atomic::write_atomically(path, |tmp| {
-            std::fs::write(tmp, &text).map_err(|source| prisma::output::OutputError::Io {
-                path: path.display().to_string(),
-                source,
-            })
-        })
-        .context("writing the spectra")
-        .map_err(CliError::Failed)?,
-        None => println!("{text}"),
+    let spectra_path = args.output.join("spectra.json");
+    write_text(&spectra_path, &text).map_err(CliError::Failed)?;
+    println!("wrote {}", spectra_path.display());
+    for (k, mesh) in scene.geometry.meshes().iter().enumerate() {
+        let mut obj = format!("# mesh {k} of {} as resolved by prisma (scene space)\n", args.scene.display());
+        for p in &mesh.positions {
+            let _ = writeln!(obj, "v {} {} {}", p.x, p.y, p.z);
+        }
+        for t in &mesh.triangles {
+            let _ = writeln!(obj, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1);
+        }
+        let path = args.output.join(format!("mesh_{k}.obj"));
+        write_text(&path, &obj).map_err(CliError::Failed)?;
+        println!("wrote {}", path.display());
     }
     Ok(())
+}
+
+fn write_text(path: &std::path::Path, text: &str) -> anyhow::Result<()> {
+    prisma::output::atomic::write_atomically(path, |tmp| {
+        std::fs::write(tmp, text)
+            .map_err(|source| prisma::output::OutputError::Io { path: path.display().to_string(), source })
+    })
+    .with_context(|| format!("writing {}", path.display()))
 }
