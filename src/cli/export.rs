@@ -47,7 +47,11 @@ pub fn run(args: &ExportArgs) -> Result<(), CliError> {
     for (name, material) in scene.material_names.iter().zip(&scene.materials) {
         let value = match material {
             Material::Diffuse(d) => json!({ "type": "diffuse", "albedo": table(&d.albedo) }),
-            Material::Mirror(m) => json!({ "type": "mirror", "reflectance": table(&m.reflectance) }),
+            Material::Mirror(m) => json!({
+                "type": "mirror",
+                "reflectance": table(&m.reflectance),
+                "metal": m.metal.map(|metal| metal.name()),
+            }),
             Material::Dielectric(d) => json!({
                 "type": "dielectric",
                 "ior": ior_table(&d.ior),

@@ -96,7 +96,7 @@ impl<'a> Whitted<'a> {
             }
             Material::Mirror(mirror) => {
                 if depth < self.max_depth {
-                    let weight = mirror.reflectance.sample(wavelengths);
+                    let weight = mirror.reflectance(ray.dir.dot(hit.shading_normal), wavelengths);
                     let dir = reflect(ray.dir, hit.shading_normal).normalize();
                     radiance += self.branch(&hit, dir, weight, throughput, wavelengths, depth, rng, stats);
                 }

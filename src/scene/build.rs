@@ -18,7 +18,7 @@ use crate::camera::Camera;
 use crate::geometry::{Geometry, Mesh, Plane, Quad, Shape, Sphere};
 use crate::light::{Light, PointLight, QuadLight};
 use crate::material::{Dielectric, Diffuse, Material, Mirror};
-use crate::optics::{catalogue, Ior};
+use crate::optics::{catalogue, metals, Ior};
 use crate::spectrum::{Spectrum, N_LAMBDA};
 
 /// Largest accepted image side, in pixels.
@@ -219,12 +219,22 @@ impl Builder<'_> {
                 }
                 Material::Diffuse(Diffuse::new(albedo, sigma_deg.to_radians()))
             }
-            MaterialDesc::Mirror { reflectance } => {
+            MaterialDesc::Mirror { reflectance, metal } => {
                 let reflectance = match reflectance {
                     Some(r) => self.spectrum(r, Role::Reflectance, span.clone(), &field("reflectance"))?,
                     None => Spectrum::constant(1.0),
                 };
-                Material::Mirror(Mirror { reflectance })
+                let metal = match metal {
+                    Some(name) => Some(metals::metal(name).ok_or_else(|| {
+                        self.error(
+                            span.clone(),
+                            field("metal"),
+                            format!("unknown metal \"{name}\"; known metals: {}", metals::metal_names().join(", ")),
+                        )
+                    })?),
+                    None => None,
+                };
+                Material::Mirror(Mirror { reflectance, metal })
             }
             MaterialDesc::Dielectric { ior, absorption } => {
                 let ior = self.ior(ior, span.clone(), &field("ior"))?;

@@ -110,6 +110,9 @@ pub enum MaterialDesc {
         /// Reflectance spectrum; 1 when absent.
         #[serde(default)]
         reflectance: Option<SpectrumDesc>,
+        /// A metal of data/metals/ whose Fresnel reflectance applies (silver, aluminium, gold, copper).
+        #[serde(default)]
+        metal: Option<String>,
     },
     /// Smooth dielectric (glass, water...).
     Dielectric {
