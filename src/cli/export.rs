@@ -13,7 +13,7 @@ use anyhow::{anyhow, Context};
 use clap::Args;
 use serde_json::{json, Map, Value};
 
-use super::CliError;
+use super::{say, CliError};
 use prisma::light::Light;
 use prisma::material::Material;
 use prisma::optics::Ior;
@@ -80,7 +80,7 @@ pub fn run(args: &ExportArgs) -> Result<(), CliError> {
     let text = serde_json::to_string_pretty(&document).map_err(|e| CliError::Failed(e.into()))?;
     let spectra_path = args.output.join("spectra.json");
     write_text(&spectra_path, &text).map_err(CliError::Failed)?;
-    println!("wrote {}", spectra_path.display());
+    say!("wrote {}", spectra_path.display());
     for (k, mesh) in scene.geometry.meshes().iter().enumerate() {
         let mut obj = format!("# mesh {k} of {} as resolved by prisma (scene space)\n", args.scene.display());
         for p in &mesh.positions {
@@ -91,7 +91,7 @@ pub fn run(args: &ExportArgs) -> Result<(), CliError> {
         }
         let path = args.output.join(format!("mesh_{k}.obj"));
         write_text(&path, &obj).map_err(CliError::Failed)?;
-        println!("wrote {}", path.display());
+        say!("wrote {}", path.display());
     }
     Ok(())
 }

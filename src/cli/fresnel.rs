@@ -10,7 +10,7 @@ use clap::Args;
 use num_complex::Complex32;
 
 use super::plot::{write_chart, Marker, Panel, Series, Style, PALETTE};
-use super::CliError;
+use super::{say, CliError};
 use prisma::optics::catalogue;
 use prisma::optics::conductor::fresnel_conductor;
 use prisma::optics::fresnel::fresnel_dielectric_amplitudes;
@@ -97,14 +97,14 @@ pub fn run(args: &FresnelArgs) -> Result<(), CliError> {
     }
     if let Some(path) = &args.output {
         write_text(path, &csv).map_err(CliError::Failed)?;
-        println!("wrote {}", path.display());
+        say!("wrote {}", path.display());
     } else if args.plot.is_none() {
-        print!("{csv}");
+        say!("{}", csv.trim_end());
     }
     if let Some(path) = &args.plot {
         let panels = curve_panels(&interface, outside, inside, args.wavelength);
         write_chart(path, &panels, (640, 480)).context("writing the plot").map_err(CliError::Failed)?;
-        println!("wrote {}", path.display());
+        say!("wrote {}", path.display());
     }
     Ok(())
 }
@@ -307,7 +307,7 @@ fn run_fixture(path: &Path, plot: Option<&Path>) -> Result<(), CliError> {
             None => groups.push(FixtureCurve { key, mitsuba: vec![(x, mitsuba)], prisma: vec![(x, prisma)] }),
         }
     }
-    println!(
+    say!(
         "{}: {} rows, {} curves; largest |prisma − Mitsuba| in reflectance = {largest:.3e}",
         path.display(),
         fixture.rows.len(),
@@ -349,7 +349,7 @@ fn run_fixture(path: &Path, plot: Option<&Path>) -> Result<(), CliError> {
             markers: Vec::new(),
         };
         write_chart(plot, &[panel], (1000, 640)).context("writing the plot").map_err(CliError::Failed)?;
-        println!("wrote {}", plot.display());
+        say!("wrote {}", plot.display());
     }
     Ok(())
 }

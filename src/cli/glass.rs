@@ -8,7 +8,7 @@ use anyhow::{anyhow, Context};
 use clap::Args;
 
 use super::plot::{write_chart, Marker, Panel, Series, Style, PALETTE};
-use super::CliError;
+use super::{say, CliError};
 use prisma::optics::catalogue::{self, GlassEntry};
 use prisma::optics::dispersion::{LAMBDA_C_NM, LAMBDA_D_NM, LAMBDA_F_NM};
 use prisma::spectrum::{LAMBDA_MAX_NM, LAMBDA_MIN_NM};
@@ -45,9 +45,9 @@ pub fn run(args: &GlassArgs) -> Result<(), CliError> {
         .collect::<Result<_, _>>()?;
 
     if selected.is_empty() {
-        println!("{:<14} {:>8} {:>7}  {:<22} source", "glass", "n_d", "V_d", "Cauchy fit max error");
+        say!("{:<14} {:>8} {:>7}  {:<22} source", "glass", "n_d", "V_d", "Cauchy fit max error");
         for glass in catalogue::glasses() {
-            println!(
+            say!(
                 "{:<14} {:>8.5} {:>7.2}  {:<22.1e} {}",
                 glass.name(),
                 glass.n_d(),
@@ -72,7 +72,7 @@ pub fn run(args: &GlassArgs) -> Result<(), CliError> {
             }
             let _ = writeln!(table);
         }
-        print!("{table}");
+        say!("{}", table.trim_end());
     }
 
     if let Some(path) = &args.plot {
@@ -115,7 +115,7 @@ pub fn run(args: &GlassArgs) -> Result<(), CliError> {
             ],
         };
         write_chart(path, &[panel], (900, 600)).context("writing the plot").map_err(CliError::Failed)?;
-        println!("wrote {}", path.display());
+        say!("wrote {}", path.display());
     }
     Ok(())
 }

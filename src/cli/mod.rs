@@ -66,6 +66,16 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
     }
 }
 
+/// Prints `text` and a newline to standard output, ignoring errors: a closed pipe (`prisma … |
+/// head`) must not turn a finished command into a panic.
+macro_rules! say {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stdout(), $($arg)*);
+    }};
+}
+pub(crate) use say;
+
 /// The bundled dispersive showcase, found beside the crate's manifest.
 fn default_scene() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes").join("showcase.toml")

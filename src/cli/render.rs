@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{anyhow, Context};
 use clap::Args;
 
-use super::CliError;
+use super::{say, CliError};
 use prisma::output::{exr::write_exr, png::write_png};
 use prisma::render::{render, Job};
 use prisma::scene::build::{MAX_DEPTH, MAX_RESOLUTION, MAX_SPP};
@@ -123,7 +123,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
 
     if !args.quiet {
         let seconds = stats.elapsed.as_secs_f64();
-        println!(
+        say!(
             "rendered {}: {width}×{height}, {} spp, {} in {seconds:.2} s on {} threads ({:.1} M rays, {:.2} M rays/s)",
             args.scene.display(),
             settings.spp,
@@ -135,7 +135,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             stats.rays as f64 * 1e-6,
             stats.rays as f64 * 1e-6 / seconds.max(1e-9),
         );
-        println!("wrote {} and {}", exr_path.display(), png_path.display());
+        say!("wrote {} and {}", exr_path.display(), png_path.display());
     }
     Ok(())
 }

@@ -229,7 +229,10 @@ impl Builder<'_> {
                         self.error(
                             span.clone(),
                             field("metal"),
-                            format!("unknown metal \"{name}\"; known metals: {}", metals::metal_names().join(", ")),
+                            format!(
+                                "unknown metal \"{name}\"; known metals: {}",
+                                metals::metal_names().join(", ")
+                            ),
                         )
                     })?),
                     None => None,
