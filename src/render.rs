@@ -11,7 +11,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 
 use crate::film::Film;
-use crate::integrator::{TraceStats, Whitted};
+use crate::integrator::{Fault, TraceStats, Whitted};
 use crate::sampler::PixelRng;
 use crate::scene::{RenderSettings, Scene};
 use crate::spectrum::{cie, SampledWavelengths};
@@ -32,6 +32,15 @@ pub struct Job {
     pub monochromatic_nm: Option<f32>,
     /// Show a progress bar (on a terminal).
     pub progress: bool,
+    /// A deliberate physics error, for proving that validation catches it; `None` normally.
+    pub fault: Option<Fault>,
+}
+
+impl Job {
+    /// A colour render with `settings`, one thread per core, no progress bar, no fault.
+    pub fn new(settings: RenderSettings) -> Self {
+        Self { settings, threads: 0, monochromatic_nm: None, progress: false, fault: None }
+    }
 }
 
 /// Figures of a finished render.

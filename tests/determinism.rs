@@ -16,7 +16,7 @@ fn small_scene() -> prisma::scene::Scene {
 fn one_and_two_threads_give_identical_images() {
     let scene = small_scene();
     let job =
-        |threads| Job { settings: scene.settings.clone(), threads, monochromatic_nm: None, progress: false };
+        |threads| Job { threads, monochromatic_nm: None, ..Job::new(scene.settings.clone()) };
     let (one, _) = render(&scene, &job(1)).unwrap();
     let (two, _) = render(&scene, &job(2)).unwrap();
     let (three, _) = render(&scene, &job(3)).unwrap();
@@ -33,19 +33,19 @@ fn different_seeds_give_different_images() {
     let mut settings = scene.settings.clone();
     let (a, _) = render(
         &scene,
-        &Job { settings: settings.clone(), threads: 2, monochromatic_nm: None, progress: false },
+        &Job { threads: 2, monochromatic_nm: None, ..Job::new(settings.clone()) },
     )
     .unwrap();
     settings.seed += 1;
     let (b, _) =
-        render(&scene, &Job { settings, threads: 2, monochromatic_nm: None, progress: false }).unwrap();
+        render(&scene, &Job { threads: 2, ..Job::new(settings) }).unwrap();
     assert_ne!(a.xyz(), b.xyz());
 }
 
 #[test]
 fn exr_round_trip_is_exact() {
     let scene = small_scene();
-    let job = Job { settings: scene.settings.clone(), threads: 2, monochromatic_nm: None, progress: false };
+    let job = Job { threads: 2, monochromatic_nm: None, ..Job::new(scene.settings.clone()) };
     let (film, _) = render(&scene, &job).unwrap();
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("round_trip.exr");

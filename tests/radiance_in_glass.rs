@@ -38,12 +38,7 @@ material = "glass"
 "#
     );
     let scene = parse(&text, Path::new("inside.toml")).unwrap();
-    let job = Job {
-        settings: scene.settings.clone(),
-        threads: 2,
-        monochromatic_nm: Some(wavelength_nm),
-        progress: false,
-    };
+    let job = Job { threads: 2, monochromatic_nm: Some(wavelength_nm), ..Job::new(scene.settings.clone()) };
     let (film, _) = render(&scene, &job).unwrap();
     film.xyz().iter().map(|p| f64::from(p.y)).sum::<f64>() / film.xyz().len() as f64
 }

@@ -15,7 +15,7 @@ fn every_shipped_scene_renders_finite() {
         scene.camera = scene.camera.with_resolution(40, 30).unwrap();
         let mut settings = scene.settings.clone();
         settings.spp = 2;
-        let job = Job { settings, threads: 2, monochromatic_nm: None, progress: false };
+        let job = Job { threads: 2, ..Job::new(settings) };
         let (film, stats) = render(&scene, &job).unwrap();
         assert!(stats.rays >= 40 * 30 * 2, "{}", path.display());
         let bad = film.xyz().iter().filter(|p| !p.is_finite()).count();

@@ -46,7 +46,7 @@ fn mean_and_max_difference(with_object: &str) -> (f64, f64, f64) {
     let mut empty = scene.clone();
     empty.geometry = prisma::geometry::Geometry::build(Vec::new(), Vec::new());
     empty.surfaces.clear();
-    let job = Job { settings: scene.settings.clone(), threads: 2, monochromatic_nm: None, progress: false };
+    let job = Job { threads: 2, monochromatic_nm: None, ..Job::new(scene.settings.clone()) };
     let (film, _) = render(&scene, &job).unwrap();
     let (reference, _) = render(&empty, &job).unwrap();
     let (mut sum, mut sum_ref, mut max) = (0f64, 0f64, 0f64);

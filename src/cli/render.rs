@@ -110,6 +110,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         threads: args.threads.unwrap_or(0) as usize,
         monochromatic_nm: args.wavelength,
         progress: show,
+        fault: None,
     };
     let (film, stats) = render(&scene, &job).map_err(|e| CliError::Failed(e.into()))?;
 

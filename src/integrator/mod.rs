@@ -11,3 +11,14 @@ pub struct TraceStats {
     /// Rays cast: camera, specular branches and shadow rays.
     pub rays: u64,
 }
+
+/// A deliberate error injected into the physics, so that validation can prove it would catch a
+/// wrong renderer (`prisma validate --fault ...`). Never used by a normal render.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Fault {
+    /// Schlick's approximation R ≈ R₀ + (1 − R₀)(1 − cos θ)⁵ instead of the exact Fresnel
+    /// equations (and no total internal reflection beyond what Snell's law forces).
+    SchlickFresnel,
+    /// Every dielectric's index of refraction multiplied by this factor (e.g. 1.01).
+    IorScale(f32),
+}

@@ -25,11 +25,11 @@
 
 use glam::Vec3;
 
-use super::TraceStats;
+use super::{Fault, TraceStats};
 use crate::geometry::{spawn_origin, Hit, Ray};
 use crate::light::Light;
 use crate::material::{Dielectric, Diffuse, Material};
-use crate::optics::{fresnel_dielectric, reflect, refract};
+use crate::optics::{fresnel_dielectric, reflect, refract, DielectricFresnel};
 use crate::sampler::PixelRng;
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, N_LAMBDA};
@@ -44,13 +44,39 @@ pub struct Whitted<'a> {
     max_depth: u32,
     prune_below: f32,
     area_light_samples: u32,
+    fault: Option<Fault>,
 }
 
 impl<'a> Whitted<'a> {
     /// An integrator for `scene` with at most `max_depth` specular bounces, Russian roulette under
     /// branch weight `prune_below` (0: off) and `area_light_samples` samples per quad light.
     pub fn new(scene: &'a Scene, max_depth: u32, prune_below: f32, area_light_samples: u32) -> Self {
-        Self { scene, max_depth, prune_below, area_light_samples: area_light_samples.max(1) }
+        Self { scene, max_depth, prune_below, area_light_samples: area_light_samples.max(1), fault: None }
+    }
+
+    /// The same integrator with a deliberate physics error (validation only).
+    pub fn with_fault(self, fault: Option<Fault>) -> Self {
+        Self { fault, ..self }
+    }
+
+    /// Fresnel at one lane: exact, unless a fault is injected.
+    #[inline]
+    fn fresnel(&self, cos_theta_i: f32, eta: f32) -> DielectricFresnel {
+        match self.fault {
+            None => fresnel_dielectric(cos_theta_i, eta),
+            Some(Fault::IorScale(scale)) => fresnel_dielectric(cos_theta_i, eta * scale),
+            Some(Fault::SchlickFresnel) => {
+                let exact = fresnel_dielectric(cos_theta_i, eta);
+                if exact.reflectance >= 1.0 {
+                    return exact;
+                }
+                let r0 = ((eta - 1.0) / (eta + 1.0)).powi(2);
+                // Schlick uses the angle on the denser side.
+                let cos = if exact.eta_it > 1.0 { cos_theta_i.abs() } else { exact.cos_theta_t.abs() };
+                let schlick = r0 + (1.0 - r0) * (1.0 - cos).powi(5);
+                DielectricFresnel { reflectance: schlick, ..exact }
+            }
+        }
     }
 
     /// Radiance (W·m⁻²·sr⁻¹·nm⁻¹) arriving at the origin of `ray` along it, at `wavelengths`.
@@ -179,11 +205,11 @@ impl<'a> Whitted<'a> {
         let shared = !dielectric.ior.is_dispersive() || live_count == 1;
         let first_live = live.iter().position(|&l| l).unwrap_or(0);
         let fresnel: [_; N_LAMBDA] = if shared {
-            [fresnel_dielectric(cos_theta_i, dielectric.ior.eval(wavelengths.lambda_nm(first_live)));
+            [self.fresnel(cos_theta_i, dielectric.ior.eval(wavelengths.lambda_nm(first_live)));
                 N_LAMBDA]
         } else {
             std::array::from_fn(|i| {
-                fresnel_dielectric(cos_theta_i, dielectric.ior.eval(wavelengths.lambda_nm(i)))
+                self.fresnel(cos_theta_i, dielectric.ior.eval(wavelengths.lambda_nm(i)))
             })
         };
 
