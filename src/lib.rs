@@ -15,3 +15,4 @@ pub mod render;
 pub mod sampler;
 pub mod scene;
 pub mod spectrum;
+pub mod validate;

@@ -93,7 +93,8 @@ pub fn render(scene: &Scene, job: &Job) -> Result<(Film, RenderStats), RenderErr
         job.settings.max_depth,
         job.settings.prune_below,
         job.settings.area_light_samples,
-    );
+    )
+    .with_fault(job.fault);
     let rendered: Vec<(Vec<Vec3>, TraceStats)> = pool.install(|| {
         tiles
             .par_iter()

@@ -15,8 +15,7 @@ fn small_scene() -> prisma::scene::Scene {
 #[test]
 fn one_and_two_threads_give_identical_images() {
     let scene = small_scene();
-    let job =
-        |threads| Job { threads, monochromatic_nm: None, ..Job::new(scene.settings.clone()) };
+    let job = |threads| Job { threads, monochromatic_nm: None, ..Job::new(scene.settings.clone()) };
     let (one, _) = render(&scene, &job(1)).unwrap();
     let (two, _) = render(&scene, &job(2)).unwrap();
     let (three, _) = render(&scene, &job(3)).unwrap();
@@ -31,14 +30,10 @@ fn one_and_two_threads_give_identical_images() {
 fn different_seeds_give_different_images() {
     let scene = small_scene();
     let mut settings = scene.settings.clone();
-    let (a, _) = render(
-        &scene,
-        &Job { threads: 2, monochromatic_nm: None, ..Job::new(settings.clone()) },
-    )
-    .unwrap();
+    let (a, _) =
+        render(&scene, &Job { threads: 2, monochromatic_nm: None, ..Job::new(settings.clone()) }).unwrap();
     settings.seed += 1;
-    let (b, _) =
-        render(&scene, &Job { threads: 2, ..Job::new(settings) }).unwrap();
+    let (b, _) = render(&scene, &Job { threads: 2, ..Job::new(settings) }).unwrap();
     assert_ne!(a.xyz(), b.xyz());
 }
 

@@ -264,6 +264,12 @@ struct FixtureCurve {
 
 /// Plots a Mitsuba fixture with prisma's values overlaid and prints the largest difference.
 fn run_fixture(path: &Path, plot: Option<&Path>) -> Result<(), CliError> {
+    fixture_overlay(path, plot).map(|_| ())
+}
+
+/// Compares a Mitsuba fixture with prisma, prints the largest difference, plots the overlay when
+/// `plot` is given, and returns the largest difference.
+pub fn fixture_overlay(path: &Path, plot: Option<&Path>) -> Result<f64, CliError> {
     let fixture = read_fixture(path).map_err(CliError::Input)?;
     let col = |name: &str| fixture.columns.iter().position(|c| c == name);
     let (cos_col, key_cols, value_col): (usize, Vec<usize>, usize) =
@@ -351,5 +357,5 @@ fn run_fixture(path: &Path, plot: Option<&Path>) -> Result<(), CliError> {
         write_chart(plot, &[panel], (1000, 640)).context("writing the plot").map_err(CliError::Failed)?;
         say!("wrote {}", plot.display());
     }
-    Ok(())
+    Ok(largest)
 }

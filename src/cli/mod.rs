@@ -6,6 +6,7 @@ mod fresnel;
 mod glass;
 mod plot;
 mod render;
+mod validate;
 
 use std::path::PathBuf;
 
@@ -29,6 +30,8 @@ enum Command {
     Fresnel(fresnel::FresnelArgs),
     /// The glass catalogue: n_d, V_d and sources, n(λ) tables and plots.
     Glass(glass::GlassArgs),
+    /// Compare prisma with Mitsuba 3 references and analytic answers (validation/cases.toml).
+    Validate(validate::ValidateArgs),
 }
 
 /// A failed command: bad input (exit code 2) or a failure while running (exit code 1).
@@ -62,6 +65,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Some(Command::Export(args)) => export::run(&args),
         Some(Command::Fresnel(args)) => fresnel::run(&args),
         Some(Command::Glass(args)) => glass::run(&args),
+        Some(Command::Validate(args)) => validate::run(&args),
         None => render::run(&render::RenderArgs::default_scene(default_scene())),
     }
 }

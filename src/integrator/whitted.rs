@@ -205,12 +205,9 @@ impl<'a> Whitted<'a> {
         let shared = !dielectric.ior.is_dispersive() || live_count == 1;
         let first_live = live.iter().position(|&l| l).unwrap_or(0);
         let fresnel: [_; N_LAMBDA] = if shared {
-            [self.fresnel(cos_theta_i, dielectric.ior.eval(wavelengths.lambda_nm(first_live)));
-                N_LAMBDA]
+            [self.fresnel(cos_theta_i, dielectric.ior.eval(wavelengths.lambda_nm(first_live))); N_LAMBDA]
         } else {
-            std::array::from_fn(|i| {
-                self.fresnel(cos_theta_i, dielectric.ior.eval(wavelengths.lambda_nm(i)))
-            })
+            std::array::from_fn(|i| self.fresnel(cos_theta_i, dielectric.ior.eval(wavelengths.lambda_nm(i))))
         };
 
         let reflected_dir = reflect(dir, normal).normalize();

@@ -1,0 +1,276 @@
+//! Validation cases with analytic answers (no Mitsuba): white furnaces, a plane-parallel slab,
+//! minimum deviation of a prism, and Snell's window. Each builds its scene in code, renders it with
+//! prisma, and compares with a closed-form value computed here, independently of prisma's optics
+//! code (textbook formulas in f64).
+
+use std::path::Path;
+
+use super::{CaseResult, Check, ValidateError};
+use crate::integrator::Fault;
+use crate::optics::catalogue;
+use crate::render::{render, Job};
+use crate::scene::{parse, Scene};
+
+/// Names of the analytic cases, in the order [`run`] runs them.
+pub const CASES: [&str; 6] = [
+    "furnace_glass",
+    "furnace_dispersive_glass",
+    "furnace_mirror",
+    "slab_transmittance",
+    "prism_minimum_deviation",
+    "snell_window",
+];
+
+/// Unpolarised Fresnel reflectance from the textbook amplitude formulas (Hecht §4.6), f64, for
+/// light in a medium of index `n_i` meeting one of index `n_t` at `cos_i` (> 0).
+pub fn reference_reflectance(cos_i: f64, n_i: f64, n_t: f64) -> f64 {
+    let sin_t = n_i / n_t * (1.0 - cos_i * cos_i).max(0.0).sqrt();
+    if sin_t >= 1.0 {
+        return 1.0;
+    }
+    let cos_t = (1.0 - sin_t * sin_t).sqrt();
+    let r_s = (n_i * cos_i - n_t * cos_t) / (n_i * cos_i + n_t * cos_t);
+    let r_p = (n_t * cos_i - n_i * cos_t) / (n_t * cos_i + n_i * cos_t);
+    0.5 * (r_s * r_s + r_p * r_p)
+}
+
+/// Runs the analytic case `name` with `threads` threads and an optional injected `fault`.
+pub fn run(name: &str, threads: usize, fault: Option<Fault>) -> Result<CaseResult, ValidateError> {
+    let ctx = Context { threads, fault };
+    match name {
+        "furnace_glass" => ctx.furnace(name, "type = \"dielectric\"\nior = 1.5"),
+        "furnace_dispersive_glass" => {
+            ctx.furnace(name, "type = \"dielectric\"\nior = { glass = \"N-SF11\" }")
+        }
+        "furnace_mirror" => ctx.furnace(name, "type = \"mirror\"\nreflectance = 1"),
+        "slab_transmittance" => ctx.slab(name),
+        "prism_minimum_deviation" => ctx.prism(name),
+        "snell_window" => ctx.snell_window(name),
+        _ => Err(ValidateError::Input(format!(
+            "unknown analytic case \"{name}\"; known: {}",
+            CASES.join(", ")
+        ))),
+    }
+}
+
+/// The white-furnace check for an object of any `material` (a TOML material body such as
+/// `type = "dielectric"\nior = 1.5`): passes only if the object is invisible.
+pub fn furnace(material: &str, threads: usize) -> Result<CaseResult, ValidateError> {
+    Context { threads, fault: None }.furnace("furnace", material)
+}
+
+struct Context {
+    threads: usize,
+    fault: Option<Fault>,
+}
+
+impl Context {
+    fn render(&self, scene: &Scene, wavelength_nm: Option<f32>) -> Result<crate::film::Film, ValidateError> {
+        let job = Job {
+            threads: self.threads,
+            monochromatic_nm: wavelength_nm,
+            fault: self.fault,
+            ..Job::new(scene.settings.clone())
+        };
+        Ok(render(scene, &job)?.0)
+    }
+
+    fn scene(&self, text: &str, name: &str) -> Result<Scene, ValidateError> {
+        parse(text, Path::new(&format!("<{name}>"))).map_err(|e| ValidateError::Input(e.to_string()))
+    }
+
+    /// A lossless object inside a uniform background renders exactly as the background. Pruning
+    /// off and a depth cap of 400 bounces: at most ≈ 1/(e·401) ≈ 9·10⁻⁴ of a ray entering near
+    /// grazing incidence is lost.
+    fn furnace(&self, name: &str, material: &str) -> Result<CaseResult, ValidateError> {
+        let text = format!(
+            "background = {{ rgb = [0.8, 0.6, 0.4] }}\n[camera]\nposition = [0, 0, -4]\nlook_at = [0, 0, 0]\n\
+             fov_y_deg = 40\nwidth = 48\nheight = 48\n[render]\nspp = 4\nmax_depth = 400\nprune_below = 0\nseed = 11\n\
+             [materials.object]\n{material}\n[[shapes]]\ntype = \"sphere\"\ncenter = [0, 0, 0]\nradius = 1\nmaterial = \"object\"\n"
+        );
+        let scene = self.scene(&text, name)?;
+        let mut empty = scene.clone();
+        empty.geometry = crate::geometry::Geometry::build(Vec::new(), Vec::new());
+        empty.surfaces.clear();
+        let (with, without) = (self.render(&scene, None)?, self.render(&empty, None)?);
+        let (mut diff_sum, mut max_diff) = (0.0f64, 0.0f64);
+        for (a, b) in with.linear_srgb().iter().zip(without.linear_srgb()) {
+            for c in 0..3 {
+                let d = f64::from(a[c]) - f64::from(b[c]);
+                diff_sum += d;
+                max_diff = max_diff.max(d.abs());
+            }
+        }
+        let mean_diff = (diff_sum / (with.xyz().len() * 3) as f64).abs();
+        Ok(CaseResult {
+            name: name.into(),
+            checks: vec![
+                Check { metric: "|mean difference|".into(), value: mean_diff, threshold: 1e-4 },
+                Check { metric: "max pixel difference".into(), value: max_diff, threshold: 1e-3 },
+            ],
+            why: format!(
+                "white furnace: a lossless object ({}) inside a uniform background is invisible",
+                material.replace('\n', ", ")
+            ),
+        })
+    }
+
+    /// A plane-parallel slab before a uniform emitter, on black: the radiance seen through it at
+    /// incidence θ is L·(1 − R)/(1 + R) (the series (1 − R)²·Σ R²ᵏ of internal reflections, with
+    /// R the unpolarised Fresnel reflectance at θ, as prisma's per-interface unpolarised model
+    /// sums it). Checked at several angles for a constant index and for N-BK7 at two wavelengths.
+    fn slab(&self, name: &str) -> Result<CaseResult, ValidateError> {
+        let mut worst = 0.0f64;
+        let bk7 = catalogue::glass("N-BK7").ok_or_else(|| ValidateError::Input("N-BK7 missing".into()))?;
+        for (ior_text, lambda_nm, n) in [
+            ("1.5".to_owned(), 550.0f32, 1.5f64),
+            ("{ glass = \"N-BK7\" }".to_owned(), 450.0, f64::from(bk7.ior().eval(450.0))),
+            ("{ glass = \"N-BK7\" }".to_owned(), 650.0, f64::from(bk7.ior().eval(650.0))),
+        ] {
+            for theta_deg in [0.0f64, 30.0, 60.0, 75.0] {
+                let (s, c) = theta_deg.to_radians().sin_cos();
+                let text = format!(
+                    "[camera]\nposition = [{px}, 0, {pz}]\nlook_at = [0, 0, 0.5]\nfov_y_deg = 0.2\nwidth = 8\nheight = 8\n\
+                     [render]\nspp = 4\nmax_depth = 64\nprune_below = 0\n\
+                     [materials.glass]\ntype = \"dielectric\"\nior = {ior_text}\n\
+                     [[shapes]]\ntype = \"quad\"\ncorner = [-1000, -1000, 0]\nedge1 = [0, 2000, 0]\nedge2 = [2000, 0, 0]\nmaterial = \"glass\"\n\
+                     [[shapes]]\ntype = \"quad\"\ncorner = [-1000, -1000, 1]\nedge1 = [2000, 0, 0]\nedge2 = [0, 2000, 0]\nmaterial = \"glass\"\n\
+                     [[lights]]\ntype = \"quad\"\ncorner = [-5000, -5000, 60]\nedge1 = [10000, 0, 0]\nedge2 = [0, 10000, 0]\nradiance = 2.0\nemit = \"edge2_cross_edge1\"\n",
+                    px = -10.0 * s,
+                    pz = 0.5 - 10.0 * c,
+                );
+                let film = self.render(&self.scene(&text, name)?, Some(lambda_nm))?;
+                let seen = film.xyz().iter().map(|p| f64::from(p.y)).sum::<f64>() / film.xyz().len() as f64;
+                let r = reference_reflectance(c, 1.0, n);
+                let expected = 2.0 * (1.0 - r) / (1.0 + r);
+                worst = worst.max((seen / expected - 1.0).abs());
+            }
+        }
+        Ok(CaseResult {
+            name: name.into(),
+            checks: vec![Check { metric: "max relative error".into(), value: worst, threshold: 1e-3 }],
+            why: "slab transmittance (1 − R)/(1 + R) at 0°, 30°, 60°, 75° (n = 1.5; N-BK7 at 450 and 650 nm)"
+                .into(),
+        })
+    }
+
+    /// A 60° prism of N-SF11 turned to minimum deviation for wavelength λ, viewed through its faces:
+    /// a thin line light placed 10⁴ units away along the direction deviated by
+    /// D = 2·asin(n(λ)·sin(A/2)) − A must appear at the centre row of the image. Measures the
+    /// angle between the line's image (brightness centroid) and the image centre.
+    fn prism(&self, name: &str) -> Result<CaseResult, ValidateError> {
+        let apex_deg = 60.0f64;
+        let sf11 = catalogue::glass("N-SF11").ok_or_else(|| ValidateError::Input("N-SF11 missing".into()))?;
+        let (fov_deg, height) = (2.0f64, 200u32);
+        let mut worst = 0.0f64;
+        for lambda_nm in [450.0f32, 550.0, 650.0] {
+            let n = f64::from(sf11.ior().eval(lambda_nm));
+            let half_apex = (apex_deg / 2.0).to_radians();
+            let theta_1 = (n * half_apex.sin()).asin();
+            let deviation = 2.0 * theta_1 - apex_deg.to_radians();
+            // Turn the prism about its axis (z) so that the camera ray (+x) meets the first face at
+            // θ₁ and crosses the prism parallel to its base.
+            let turn = -(theta_1 - half_apex);
+            let turn_deg = turn.to_degrees();
+            // Shift the prism so that the camera ray enters the middle of its first face (local
+            // centroid at the origin: apex at 2H/3, base at −H/3, H = s·cos(A/2), half-base
+            // s·sin(A/2); the first face's midpoint is (−s·sin(A/2)/2, H/6) before the turn).
+            let side = 3.0f64;
+            let height_h = side * half_apex.cos();
+            let (mx, my) = (-0.5 * side * half_apex.sin(), height_h / 6.0);
+            let shift_y = -(mx * turn.sin() + my * turn.cos());
+            let (sd, cd) = deviation.sin_cos();
+            let distance = 1.0e4;
+            let thickness = 2.0; // 2·10⁻⁴ rad, a tenth of a pixel
+            let centre = [distance * cd, -distance * sd];
+            let across = [sd * thickness, cd * thickness];
+            let text = format!(
+                "[camera]\nposition = [-6, 0, 0]\nlook_at = [0, 0, 0]\nfov_y_deg = {fov_deg}\nwidth = 8\nheight = {height}\n\
+                 [render]\nspp = 16\nmax_depth = 8\nprune_below = 0\n\
+                 [materials.flint]\ntype = \"dielectric\"\nior = {{ glass = \"N-SF11\" }}\n\
+                 [[shapes]]\ntype = \"prism\"\napex_angle_deg = {apex_deg}\nside_length = {side}\nlength = 4\nrotate_deg = [0, 0, {turn_deg}]\nposition = [0, {shift_y}, 0]\nmaterial = \"flint\"\n\
+                 [[lights]]\ntype = \"quad\"\ncorner = [{cx}, {cy}, -3000]\nedge1 = [0, 0, 6000]\nedge2 = [{ax}, {ay}, 0]\nradiance = 1.0\nemit = \"edge1_cross_edge2\"\n",
+                cx = centre[0] - 0.5 * across[0],
+                cy = centre[1] - 0.5 * across[1],
+                ax = across[0],
+                ay = across[1],
+            );
+            let scene = self.scene(&text, name)?;
+            let film = self.render(&scene, Some(lambda_nm))?;
+            let width = film.width() as usize;
+            let (mut weight, mut moment) = (0.0f64, 0.0f64);
+            for (i, p) in film.xyz().iter().enumerate() {
+                let row = (i / width) as f64 + 0.5;
+                weight += f64::from(p.y);
+                moment += f64::from(p.y) * row;
+            }
+            // The line must be in view: it covers about a tenth of a row, so a render that shows
+            // it has a total of roughly (width · 0.1 · transmittance) in radiance units.
+            let angle_deg = if weight > 0.05 {
+                let ndc = 1.0 - 2.0 * (moment / weight) / f64::from(height);
+                (ndc * (fov_deg.to_radians() / 2.0).tan()).atan().to_degrees()
+            } else {
+                f64::INFINITY // the line is not in view at all
+            };
+            worst = worst.max(angle_deg.abs());
+        }
+        Ok(CaseResult {
+            name: name.into(),
+            checks: vec![Check {
+                metric: "max |image offset| (degrees)".into(),
+                value: worst,
+                threshold: 0.01,
+            }],
+            why: "minimum deviation D = 2·asin(n·sin(A/2)) − A of a 60° N-SF11 prism at 450, 550, 650 nm"
+                .into(),
+        })
+    }
+
+    /// Looking up from under a flat water surface (n = 1.333) at a uniform sky of radiance L: the
+    /// sky fills the cone θ < θc = asin(1/n) with radiance (1 − R(θ))·n²·L (radiance gains n²
+    /// entering the denser medium), and beyond θc total internal reflection shows the black depths.
+    fn snell_window(&self, name: &str) -> Result<CaseResult, ValidateError> {
+        let n = 1.333f64;
+        let (size, fov_deg) = (64u32, 120.0f64);
+        let text = format!(
+            "[camera]\nposition = [0, -1, 0]\nlook_at = [0, 0, 0]\nup = [0, 0, 1]\nfov_y_deg = {fov_deg}\nwidth = {size}\nheight = {size}\n\
+             [render]\nspp = 64\nmax_depth = 8\nprune_below = 0\n\
+             [materials.water]\ntype = \"dielectric\"\nior = {n}\n\
+             [[shapes]]\ntype = \"plane\"\npoint = [0, 0, 0]\nnormal = [0, 1, 0]\nmaterial = \"water\"\n\
+             [[lights]]\ntype = \"quad\"\ncorner = [-1e4, 20, -1e4]\nedge1 = [2e4, 0, 0]\nedge2 = [0, 0, 2e4]\nradiance = 1.0\nemit = \"edge1_cross_edge2\"\n"
+        );
+        let film = self.render(&self.scene(&text, name)?, Some(550.0))?;
+        let critical = (1.0 / n).asin();
+        let tan_half = (fov_deg.to_radians() / 2.0).tan();
+        let pixel_angle = 2.0 * tan_half / f64::from(size); // upper bound of a pixel's angular size
+        let (mut worst, mut checked) = (0.0f64, 0usize);
+        for (i, p) in film.xyz().iter().enumerate() {
+            let (x, y) = ((i % size as usize) as f64 + 0.5, (i / size as usize) as f64 + 0.5);
+            let u = (2.0 * x / f64::from(size) - 1.0) * tan_half;
+            let v = (1.0 - 2.0 * y / f64::from(size)) * tan_half;
+            let theta = (u * u + v * v).sqrt().atan(); // angle from the vertical
+            if (theta - critical).abs() < 2.0 * pixel_angle {
+                continue; // the window's edge crosses this pixel
+            }
+            let expected = if theta < critical {
+                (1.0 - reference_reflectance(theta.cos(), n, 1.0)) * n * n
+            } else {
+                0.0
+            };
+            // The pixel average of a smooth function differs from its centre value by a
+            // curvature term: the error is relative to the expected value plus a small floor.
+            let error = (f64::from(p.y) - expected).abs() / (expected + 0.05);
+            worst = worst.max(error);
+            checked += 1;
+        }
+        if checked == 0 {
+            return Err(ValidateError::Input("snell_window: no pixel checked".into()));
+        }
+        Ok(CaseResult {
+            name: name.into(),
+            checks: vec![Check { metric: "max relative error".into(), value: worst, threshold: 5e-3 }],
+            why: "Snell's window under water (n = 1.333): (1 − R)·n²·L inside θc = 48.6°, black beyond"
+                .into(),
+        })
+    }
+}

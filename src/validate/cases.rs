@@ -1,0 +1,97 @@
+//! `validation/cases.toml`: the list of Mitsuba-referenced cases and their thresholds.
+//!
+//! ```toml
+//! [[case]]
+//! name = "specular_spheres"
+//! scene = "scenes/specular_spheres.toml"    # relative to validation/
+//! references = ["references/specular_spheres_seed1.exr", "references/specular_spheres_seed2.exr"]
+//! channels = ["R", "G", "B"]                 # Mitsuba channels compared with prisma's R, G, B
+//! wavelength_nm = 550.0                      # monochromatic cases only
+//! why = "specular-only: Mitsuba's path tracer computes exactly Whitted here"
+//! spp = 256                                  # prisma samples per pixel for each of its two renders
+//! max_rel_mse = 1e-3
+//! max_outlier_fraction = 0.005
+//! max_mean_z = 5.0
+//! ```
+
+use std::path::Path;
+
+use serde::Deserialize;
+
+use super::ValidateError;
+
+/// Default prisma samples per pixel of each of the two renders of a case.
+pub const DEFAULT_SPP: u32 = 256;
+/// Default largest relative MSE, mean of (p − m)²/(m² + 0.01).
+pub const DEFAULT_MAX_REL_MSE: f64 = 2e-3;
+/// Default largest fraction of pixels whose |z| exceeds [`super::metrics::Z_OUTLIER`].
+pub const DEFAULT_MAX_OUTLIER_FRACTION: f64 = 0.005;
+/// Default largest |z| of the image-wide mean difference of any channel.
+pub const DEFAULT_MAX_MEAN_Z: f64 = 5.0;
+
+/// The whole file.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CasesFile {
+    /// The cases, in order.
+    #[serde(rename = "case")]
+    pub cases: Vec<Case>,
+}
+
+/// One Mitsuba-referenced case.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Case {
+    /// Short unique name.
+    pub name: String,
+    /// prisma scene file, relative to the validation directory.
+    pub scene: String,
+    /// Two Mitsuba renders with independent seeds, relative to the validation directory.
+    pub references: Vec<String>,
+    /// Mitsuba channels to compare: `["R", "G", "B"]` or one channel for monochromatic cases.
+    pub channels: Vec<String>,
+    /// The wavelength (nm) of a monochromatic case.
+    #[serde(default)]
+    pub wavelength_nm: Option<f32>,
+    /// Why prisma and Mitsuba compute the same quantity here.
+    pub why: String,
+    /// prisma samples per pixel of each of its two renders.
+    #[serde(default)]
+    pub spp: Option<u32>,
+    /// Largest relative MSE.
+    #[serde(default)]
+    pub max_rel_mse: Option<f64>,
+    /// Largest fraction of outlier pixels.
+    #[serde(default)]
+    pub max_outlier_fraction: Option<f64>,
+    /// Largest |z| of the mean difference.
+    #[serde(default)]
+    pub max_mean_z: Option<f64>,
+}
+
+/// Reads `cases.toml` in `validation_dir`.
+pub fn load(validation_dir: &Path) -> Result<Vec<Case>, ValidateError> {
+    let path = validation_dir.join("cases.toml");
+    let text = std::fs::read_to_string(&path)
+        .map_err(|e| ValidateError::Input(format!("{}: cannot read: {e}", path.display())))?;
+    let file: CasesFile = toml::from_str(&text).map_err(|e| {
+        ValidateError::Input(format!("{}: {}", path.display(), crate::scene::error::one_line(e.message())))
+    })?;
+    for case in &file.cases {
+        if case.references.len() != 2 {
+            return Err(ValidateError::Input(format!(
+                "{}: case {}: `references` must list two renders with independent seeds",
+                path.display(),
+                case.name
+            )));
+        }
+        if !(case.channels.len() == 3 || (case.channels.len() == 1 && case.wavelength_nm.is_some())) {
+            return Err(ValidateError::Input(format!(
+                "{}: case {}: `channels` must name 3 channels, or 1 for a monochromatic case",
+                path.display(),
+                case.name
+            )));
+        }
+    }
+    Ok(file.cases)
+}

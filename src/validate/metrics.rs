@@ -1,0 +1,217 @@
+//! Image comparison metrics that separate noise from bias.
+//!
+//! Both renderers' noise is measured, not assumed: each side renders twice with independent seeds
+//! (a, b). The compared images are the means (a + b)/2, whose per-pixel variance is estimated as
+//! (a − b)²/4 and pooled over a (2r+1)² window (noise varies slowly across an image; one pixel's
+//! pair alone has a single degree of freedom). Then, per pixel and channel,
+//!
+//!   z = (p̄ − m̄) / √(σ²_p + σ²_m + floor²),   floor = 10⁻⁴ + 10⁻³·|m̄|,
+//!
+//! where the floor absorbs float rounding on noiseless pixels. A correct renderer gives z ≈ N(0, 1)
+//! (Student-like tails); the checks are
+//! - the fraction of pixels with |z| > [`Z_OUTLIER`] (a local bias: an edge in the wrong place, a
+//!   wrong Fresnel lobe),
+//! - the z of the image-wide mean difference per channel (a global bias: wrong units, a scale),
+//! - the relative MSE, mean (p̄ − m̄)²/(m̄² + 0.01) (the metric of most renderer comparisons).
+//!
+//! This is the per-pixel test of Mitsuba 3's own image regression tests (reference mean and
+//! variance images), with the variance estimated from two renders instead of a variance film.
+
+/// |z| above which a pixel counts as an outlier.
+pub const Z_OUTLIER: f64 = 5.0;
+/// Radius of the window over which variance is pooled.
+pub const POOL_RADIUS: usize = 3;
+
+/// A multi-channel float image, channel-major: `data[c][y·width + x]`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Planes {
+    /// Width in pixels.
+    pub width: usize,
+    /// Height in pixels.
+    pub height: usize,
+    /// One plane per channel.
+    pub data: Vec<Vec<f64>>,
+}
+
+impl Planes {
+    /// Averages `factor`×`factor` blocks (exact for box-filtered images: a box-filtered image at
+    /// full resolution, averaged over blocks, is the box-filtered image at the lower resolution).
+    /// Returns `None` when the size is not divisible.
+    pub fn downsample(&self, factor: usize) -> Option<Planes> {
+        if factor == 1 {
+            return Some(self.clone());
+        }
+        if factor == 0 || !self.width.is_multiple_of(factor) || !self.height.is_multiple_of(factor) {
+            return None;
+        }
+        let (w, h) = (self.width / factor, self.height / factor);
+        let norm = 1.0 / (factor * factor) as f64;
+        let data = self
+            .data
+            .iter()
+            .map(|plane| {
+                let mut out = vec![0.0; w * h];
+                for y in 0..self.height {
+                    for x in 0..self.width {
+                        out[(y / factor) * w + x / factor] += plane[y * self.width + x] * norm;
+                    }
+                }
+                out
+            })
+            .collect();
+        Some(Planes { width: w, height: h, data })
+    }
+}
+
+/// The result of comparing two pairs of renders.
+#[derive(Debug, Clone)]
+pub struct Comparison {
+    /// Mean of (p̄ − m̄)²/(m̄² + 0.01) over pixels and channels.
+    pub rel_mse: f64,
+    /// Fraction of pixels with |z| > [`Z_OUTLIER`] in any channel.
+    pub outlier_fraction: f64,
+    /// Largest |z| of the image-wide mean difference over channels.
+    pub mean_z: f64,
+    /// Per pixel, the z of largest magnitude over channels (signed).
+    pub z_map: Vec<f64>,
+    /// Mean of p̄ / mean of m̄ per channel.
+    pub mean_ratio: Vec<f64>,
+}
+
+/// Compares the test pair (`test_a`, `test_b`) with the reference pair (`ref_a`, `ref_b`).
+/// Panics if the four images differ in size or channel count.
+pub fn compare(test_a: &Planes, test_b: &Planes, ref_a: &Planes, ref_b: &Planes) -> Comparison {
+    let (w, h) = (ref_a.width, ref_a.height);
+    for other in [test_a, test_b, ref_b] {
+        assert!(
+            other.width == w && other.height == h && other.data.len() == ref_a.data.len(),
+            "size mismatch"
+        );
+    }
+    let n = w * h;
+    let mut z_map = vec![0.0f64; n];
+    let mut outlier = vec![false; n];
+    let (mut rel_mse, mut mean_z, mut mean_ratio) = (0.0, 0.0f64, Vec::new());
+    for c in 0..ref_a.data.len() {
+        let mean = |a: &Planes, b: &Planes| -> Vec<f64> {
+            (0..n).map(|i| 0.5 * (a.data[c][i] + b.data[c][i])).collect()
+        };
+        let variance = |a: &Planes, b: &Planes| -> Vec<f64> {
+            pool((0..n).map(|i| 0.25 * (a.data[c][i] - b.data[c][i]).powi(2)).collect(), w, h)
+        };
+        let (p, m) = (mean(test_a, test_b), mean(ref_a, ref_b));
+        let (vp, vm) = (variance(test_a, test_b), variance(ref_a, ref_b));
+        let (mut sum_diff, mut sum_var, mut sum_p, mut sum_m) = (0.0, 0.0, 0.0, 0.0);
+        for i in 0..n {
+            let diff = p[i] - m[i];
+            let floor = 1e-4 + 1e-3 * m[i].abs();
+            let z = diff / (vp[i] + vm[i] + floor * floor).sqrt();
+            if z.abs() > z_map[i].abs() || z.is_nan() {
+                z_map[i] = z;
+            }
+            // A NaN z (a NaN pixel) counts as an outlier.
+            outlier[i] |= z.is_nan() || z.abs() > Z_OUTLIER;
+            rel_mse += diff * diff / (m[i] * m[i] + 0.01);
+            sum_diff += diff;
+            sum_var += vp[i] + vm[i] + floor * floor;
+            sum_p += p[i];
+            sum_m += m[i];
+        }
+        mean_z = mean_z.max((sum_diff / sum_var.sqrt()).abs());
+        mean_ratio.push(if sum_m != 0.0 { sum_p / sum_m } else { f64::NAN });
+    }
+    let channels = ref_a.data.len().max(1) as f64;
+    Comparison {
+        rel_mse: rel_mse / (n as f64 * channels),
+        outlier_fraction: outlier.iter().filter(|&&o| o).count() as f64 / n.max(1) as f64,
+        mean_z,
+        z_map,
+        mean_ratio,
+    }
+}
+
+/// Box-averages `values` over a (2·[`POOL_RADIUS`]+1)² window clipped to the image.
+fn pool(values: Vec<f64>, w: usize, h: usize) -> Vec<f64> {
+    let r = POOL_RADIUS;
+    let mut out = vec![0.0; values.len()];
+    for y in 0..h {
+        for x in 0..w {
+            let (y0, y1, x0, x1) =
+                (y.saturating_sub(r), (y + r).min(h - 1), x.saturating_sub(r), (x + r).min(w - 1));
+            let mut sum = 0.0;
+            for yy in y0..=y1 {
+                sum += values[yy * w + x0..=yy * w + x1].iter().sum::<f64>();
+            }
+            out[y * w + x] = sum / ((y1 - y0 + 1) * (x1 - x0 + 1)) as f64;
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Deterministic pseudo-noise in [-0.5, 0.5) (a hash; the metric tests need no real RNG).
+    fn noise(i: usize, seed: u64) -> f64 {
+        let mut x = (i as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ seed.wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        x ^= x >> 31;
+        x = x.wrapping_mul(0x94D0_49BB_1331_11EB);
+        x ^= x >> 29;
+        (x >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    }
+
+    fn image(value: impl Fn(usize) -> f64, sigma: f64, seed: u64) -> Planes {
+        // Sum of four uniforms: roughly normal with variance 4/12 = 1/3.
+        let data = (0..64 * 64)
+            .map(|i| value(i) + sigma * (3f64).sqrt() * (0..4).map(|k| noise(i, seed * 4 + k)).sum::<f64>())
+            .collect();
+        Planes { width: 64, height: 64, data: vec![data] }
+    }
+
+    #[test]
+    fn same_truth_different_noise_passes() {
+        let truth = |i: usize| 0.5 + 0.3 * ((i % 64) as f64 / 64.0);
+        let c = compare(
+            &image(truth, 0.02, 1),
+            &image(truth, 0.02, 2),
+            &image(truth, 0.01, 3),
+            &image(truth, 0.01, 4),
+        );
+        assert!(c.outlier_fraction < 0.005, "{c:?}");
+        assert!(c.mean_z < 5.0, "{}", c.mean_z);
+    }
+
+    #[test]
+    fn a_one_percent_scale_is_caught_by_the_mean_z() {
+        let truth = |i: usize| 0.5 + 0.3 * ((i % 64) as f64 / 64.0);
+        let biased = |i: usize| 1.01 * truth(i);
+        let c = compare(
+            &image(biased, 0.02, 1),
+            &image(biased, 0.02, 2),
+            &image(truth, 0.01, 3),
+            &image(truth, 0.01, 4),
+        );
+        assert!(c.mean_z > 5.0, "{}", c.mean_z);
+    }
+
+    #[test]
+    fn a_shifted_edge_is_caught_by_outliers() {
+        let edge = |shift: usize| move |i: usize| if i % 64 < 32 + shift { 1.0 } else { 0.0 };
+        let c = compare(
+            &image(edge(1), 0.01, 1),
+            &image(edge(1), 0.01, 2),
+            &image(edge(0), 0.01, 3),
+            &image(edge(0), 0.01, 4),
+        );
+        // One column of 64 moved: 1/64 of the pixels, far above the noise.
+        assert!(c.outlier_fraction > 0.01, "{}", c.outlier_fraction);
+    }
+
+    #[test]
+    fn downsampling_averages_blocks() {
+        let p = Planes { width: 4, height: 2, data: vec![vec![1.0, 3.0, 5.0, 7.0, 1.0, 3.0, 5.0, 7.0]] };
+        assert_eq!(p.downsample(2).unwrap().data[0], vec![2.0, 6.0]);
+        assert!(p.downsample(3).is_none());
+    }
+}

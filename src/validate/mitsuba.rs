@@ -1,0 +1,142 @@
+//! Running one Mitsuba-referenced case: prisma renders the case's scene twice with independent
+//! seeds at the references' resolution (or a block-downsampled one), and [`super::metrics`]
+//! compares the pair with the two Mitsuba renders.
+
+use std::path::Path;
+
+use super::cases::{self, Case};
+use super::metrics::{compare, Comparison, Planes, Z_OUTLIER};
+use super::{CaseResult, Check, ValidateError};
+use crate::integrator::Fault;
+use crate::output::exr::read_exr;
+use crate::render::{render, Job};
+
+/// How to run the cases.
+#[derive(Debug, Clone, Copy)]
+pub struct RunOptions {
+    /// Compare at the references' resolution divided by this factor (1: full resolution).
+    pub downsample: usize,
+    /// prisma samples per pixel of each render, overriding the case's.
+    pub spp: Option<u32>,
+    /// Render threads (0: one per core).
+    pub threads: usize,
+    /// A deliberate physics error, to show that the case catches it.
+    pub fault: Option<Fault>,
+}
+
+impl Default for RunOptions {
+    fn default() -> Self {
+        Self { downsample: 1, spp: None, threads: 0, fault: None }
+    }
+}
+
+/// The images of a finished case, for the report.
+#[derive(Debug, Clone)]
+pub struct CaseImages {
+    /// Mean of prisma's two renders.
+    pub prisma: Planes,
+    /// Mean of Mitsuba's two renders.
+    pub mitsuba: Planes,
+    /// The comparison.
+    pub comparison: Comparison,
+}
+
+/// Runs `case` from `validation_dir`.
+pub fn run_case(
+    validation_dir: &Path,
+    case: &Case,
+    options: &RunOptions,
+) -> Result<(CaseResult, CaseImages), ValidateError> {
+    let input = |message: String| ValidateError::Input(format!("case {}: {message}", case.name));
+    let read = |relative: &str| -> Result<Planes, ValidateError> {
+        let path = validation_dir.join(relative);
+        let image = read_exr(&path).map_err(|e| input(e.to_string()))?;
+        let data = case
+            .channels
+            .iter()
+            .map(|name| {
+                image
+                    .channel(name)
+                    .map(|values| values.iter().map(|&v| f64::from(v)).collect())
+                    .ok_or_else(|| input(format!("{}: no channel {name}", path.display())))
+            })
+            .collect::<Result<Vec<Vec<f64>>, _>>()?;
+        let planes = Planes { width: image.width as usize, height: image.height as usize, data };
+        planes.downsample(options.downsample).ok_or_else(|| {
+            input(format!("{}×{} is not divisible by {}", image.width, image.height, options.downsample))
+        })
+    };
+    let (ref_a, ref_b) = (read(&case.references[0])?, read(&case.references[1])?);
+
+    let scene_path = validation_dir.join(&case.scene);
+    let mut scene = crate::scene::load(&scene_path).map_err(|e| input(e.to_string()))?;
+    let full = (scene.camera.width() as usize, scene.camera.height() as usize);
+    if full != (ref_a.width * options.downsample, ref_a.height * options.downsample) {
+        return Err(input(format!(
+            "the scene renders {}×{} but the references are {}×{}",
+            full.0,
+            full.1,
+            ref_a.width * options.downsample,
+            ref_a.height * options.downsample
+        )));
+    }
+    scene.camera = scene
+        .camera
+        .with_resolution(ref_a.width as u32, ref_a.height as u32)
+        .map_err(|e| input(e.to_string()))?;
+    let mut settings = scene.settings.clone();
+    settings.spp = options.spp.or(case.spp).unwrap_or(cases::DEFAULT_SPP);
+
+    let mut renders = Vec::with_capacity(2);
+    for seed in [1u64, 2] {
+        let job = Job {
+            settings: crate::scene::RenderSettings {
+                seed: settings.seed.wrapping_add(seed),
+                ..settings.clone()
+            },
+            threads: options.threads,
+            monochromatic_nm: case.wavelength_nm,
+            progress: false,
+            fault: options.fault,
+        };
+        let (film, _) = render(&scene, &job)?;
+        let data = if case.wavelength_nm.is_some() {
+            vec![film.xyz().iter().map(|p| f64::from(p.y)).collect()]
+        } else {
+            let rgb = film.linear_srgb();
+            (0..3).map(|c| rgb.iter().map(|p| f64::from(p[c])).collect()).collect()
+        };
+        renders.push(Planes { width: ref_a.width, height: ref_a.height, data });
+    }
+    let comparison = compare(&renders[0], &renders[1], &ref_a, &ref_b);
+    let checks = vec![
+        Check {
+            metric: "relMSE".into(),
+            value: comparison.rel_mse,
+            threshold: case.max_rel_mse.unwrap_or(cases::DEFAULT_MAX_REL_MSE),
+        },
+        Check {
+            metric: format!("pixels |z|>{Z_OUTLIER}"),
+            value: comparison.outlier_fraction,
+            threshold: case.max_outlier_fraction.unwrap_or(cases::DEFAULT_MAX_OUTLIER_FRACTION),
+        },
+        Check {
+            metric: "|z| of mean".into(),
+            value: comparison.mean_z,
+            threshold: case.max_mean_z.unwrap_or(cases::DEFAULT_MAX_MEAN_Z),
+        },
+    ];
+    let mean = |a: &Planes, b: &Planes| Planes {
+        width: a.width,
+        height: a.height,
+        data: a
+            .data
+            .iter()
+            .zip(&b.data)
+            .map(|(x, y)| x.iter().zip(y).map(|(p, q)| 0.5 * (p + q)).collect())
+            .collect(),
+    };
+    let images =
+        CaseImages { prisma: mean(&renders[0], &renders[1]), mitsuba: mean(&ref_a, &ref_b), comparison };
+    Ok((CaseResult { name: case.name.clone(), checks, why: case.why.clone() }, images))
+}

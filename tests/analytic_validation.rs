@@ -1,0 +1,44 @@
+//! The analytic validation cases (white furnaces, slab transmittance, prism minimum deviation,
+//! Snell's window) pass, and each fails when the physics it checks is deliberately broken: a
+//! check that cannot fail proves nothing.
+
+use prisma::integrator::Fault;
+use prisma::validate::analytic::{self, CASES};
+
+fn passes(name: &str, fault: Option<Fault>) -> bool {
+    let result = analytic::run(name, 2, fault).unwrap();
+    for check in &result.checks {
+        eprintln!("{name} {fault:?}: {} = {:.4e} (≤ {:.1e})", check.metric, check.value, check.threshold);
+    }
+    result.passed()
+}
+
+#[test]
+fn every_analytic_case_passes() {
+    for name in CASES {
+        assert!(passes(name, None), "{name} failed");
+    }
+}
+
+#[test]
+fn schlick_instead_of_exact_fresnel_is_caught() {
+    assert!(!passes("slab_transmittance", Some(Fault::SchlickFresnel)));
+    assert!(!passes("snell_window", Some(Fault::SchlickFresnel)));
+}
+
+#[test]
+fn an_index_one_percent_too_high_is_caught() {
+    for name in ["slab_transmittance", "prism_minimum_deviation", "snell_window"] {
+        assert!(!passes(name, Some(Fault::IorScale(1.01))), "{name} did not catch the fault");
+    }
+}
+
+/// The white furnace can fail: absorbing glass or a 95 % mirror are visible.
+#[test]
+fn lossy_objects_are_visible_in_the_furnace() {
+    for material in
+        ["type = \"dielectric\"\nior = 1.5\nabsorption = 0.5", "type = \"mirror\"\nreflectance = 0.95"]
+    {
+        assert!(!analytic::furnace(material, 2).unwrap().passed(), "{material}");
+    }
+}
