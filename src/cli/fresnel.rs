@@ -9,6 +9,8 @@ use anyhow::{anyhow, bail, Context};
 use clap::Args;
 use num_complex::Complex32;
 
+use plotters::chart::SeriesLabelPosition;
+
 use super::plot::{write_chart, Marker, Panel, Series, Style, PALETTE};
 use super::{say, CliError};
 use prisma::optics::catalogue;
@@ -132,6 +134,7 @@ fn curve_panels(
         y_range: (0.0, 1.0),
         series,
         markers,
+        legend: SeriesLabelPosition::UpperLeft,
     };
     match interface {
         Interface::Dielectric { n, label } => {
@@ -353,6 +356,7 @@ pub fn fixture_overlay(path: &Path, plot: Option<&Path>) -> Result<f64, CliError
             y_range: (0.0, 1.0),
             series,
             markers: Vec::new(),
+            legend: SeriesLabelPosition::UpperLeft,
         };
         write_chart(plot, &[panel], (1000, 640)).context("writing the plot").map_err(CliError::Failed)?;
         say!("wrote {}", plot.display());

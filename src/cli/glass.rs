@@ -7,6 +7,8 @@ use std::path::PathBuf;
 use anyhow::{anyhow, Context};
 use clap::Args;
 
+use plotters::chart::SeriesLabelPosition;
+
 use super::plot::{write_chart, Marker, Panel, Series, Style, PALETTE};
 use super::{say, CliError};
 use prisma::optics::catalogue::{self, GlassEntry};
@@ -113,6 +115,8 @@ pub fn run(args: &GlassArgs) -> Result<(), CliError> {
                 Marker { x: LAMBDA_D_NM, label: "d 587.6".into() },
                 Marker { x: LAMBDA_C_NM, label: "C 656.3".into() },
             ],
+            // Indices of real glasses leave the band between ~1.9 and ~2.3 empty.
+            legend: SeriesLabelPosition::MiddleRight,
         };
         write_chart(path, &[panel], (900, 600)).context("writing the plot").map_err(CliError::Failed)?;
         say!("wrote {}", path.display());

@@ -62,6 +62,8 @@ pub struct Panel {
     pub series: Vec<Series>,
     /// Vertical markers.
     pub markers: Vec<Marker>,
+    /// Where the legend goes (somewhere the curves leave empty).
+    pub legend: SeriesLabelPosition,
 }
 
 /// A palette that reads well on white and for common colour-vision deficiencies (Okabe & Ito 2008).
@@ -176,7 +178,7 @@ fn draw_panel<DB: DrawingBackend>(
     }
     chart
         .configure_series_labels()
-        .position(SeriesLabelPosition::UpperLeft)
+        .position(panel.legend.clone())
         .background_style(WHITE.mix(0.85))
         .border_style(RGBColor(180, 180, 180))
         .label_font((FONT, 13))
