@@ -12,7 +12,8 @@ use crate::render::{render, Job};
 use crate::scene::{parse, Scene};
 
 /// Names of the analytic cases, in the order [`run`] runs them.
-pub const CASES: [&str; 6] = [
+pub const CASES: [&str; 7] = [
+    "lambert_point_light",
     "furnace_glass",
     "furnace_dispersive_glass",
     "furnace_mirror",
@@ -43,6 +44,7 @@ pub fn run(name: &str, threads: usize, fault: Option<Fault>) -> Result<CaseResul
             ctx.furnace(name, "type = \"dielectric\"\nior = { glass = \"N-SF11\" }")
         }
         "furnace_mirror" => ctx.furnace(name, "type = \"mirror\"\nreflectance = 1"),
+        "lambert_point_light" => ctx.lambert(name),
         "slab_transmittance" => ctx.slab(name),
         "prism_minimum_deviation" => ctx.prism(name),
         "snell_window" => ctx.snell_window(name),
@@ -77,6 +79,49 @@ impl Context {
 
     fn scene(&self, text: &str, name: &str) -> Result<Scene, ValidateError> {
         parse(text, Path::new(&format!("<{name}>"))).map_err(|e| ValidateError::Input(e.to_string()))
+    }
+
+    /// A Lambertian plane (albedo ρ) under a point light of intensity I at height h: the radiance
+    /// leaving the point at horizontal distance r is ρ/π · I·cos θ/d², d² = h² + r², cos θ = h/d.
+    fn lambert(&self, name: &str) -> Result<CaseResult, ValidateError> {
+        let (albedo, intensity, light_height, size) = (0.5f64, 3.0f64, 2.0f64, 32u32);
+        let (camera_height, fov_deg) = (4.0f64, 60.0f64);
+        let text = format!(
+            "[camera]\nposition = [0, {camera_height}, 0]\nlook_at = [0, 0, 0]\nup = [0, 0, 1]\nfov_y_deg = {fov_deg}\n\
+             width = {size}\nheight = {size}\n[render]\nspp = 1024\n\
+             [materials.paper]\ntype = \"diffuse\"\nalbedo = {albedo}\n\
+             [[shapes]]\ntype = \"plane\"\npoint = [0, 0, 0]\nnormal = [0, 1, 0]\nmaterial = \"paper\"\n\
+             [[lights]]\ntype = \"point\"\nposition = [0, {light_height}, 0]\nintensity = {intensity}\n"
+        );
+        let film = self.render(&self.scene(&text, name)?, Some(550.0))?;
+        let tan_half = (fov_deg.to_radians() / 2.0).tan();
+        let mut worst = 0.0f64;
+        // The radiance at a film position (x, y) in pixels: the camera looks straight down, so its
+        // ray meets the plane at horizontal offsets proportional to the image-plane coordinates.
+        let radiance = |x: f64, y: f64| {
+            let u = (2.0 * x / f64::from(size) - 1.0) * tan_half * camera_height;
+            let v = (1.0 - 2.0 * y / f64::from(size)) * tan_half * camera_height;
+            let d2 = light_height * light_height + u * u + v * v;
+            albedo / std::f64::consts::PI * intensity * (light_height / d2.sqrt()) / d2
+        };
+        for (i, p) in film.xyz().iter().enumerate() {
+            let (x0, y0) = ((i % size as usize) as f64, (i / size as usize) as f64);
+            // The box-filtered pixel value: the mean over the pixel (16 × 16 midpoint rule).
+            let n = 16;
+            let expected = (0..n * n)
+                .map(|k| {
+                    radiance(x0 + ((k % n) as f64 + 0.5) / n as f64, y0 + ((k / n) as f64 + 0.5) / n as f64)
+                })
+                .sum::<f64>()
+                / (n * n) as f64;
+            worst = worst.max((f64::from(p.y) / expected - 1.0).abs());
+        }
+        Ok(CaseResult {
+            name: name.into(),
+            checks: vec![Check { metric: "max relative error".into(), value: worst, threshold: 5e-3 }],
+            why: "a Lambertian plane under a point light: ρ/π · I·cos θ / d² (units of intensity and albedo)"
+                .into(),
+        })
     }
 
     /// A lossless object inside a uniform background renders exactly as the background. Pruning
