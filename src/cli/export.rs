@@ -97,9 +97,5 @@ pub fn run(args: &ExportArgs) -> Result<(), CliError> {
 }
 
 fn write_text(path: &std::path::Path, text: &str) -> anyhow::Result<()> {
-    prisma::output::atomic::write_atomically(path, |tmp| {
-        std::fs::write(tmp, text)
-            .map_err(|source| prisma::output::OutputError::Io { path: path.display().to_string(), source })
-    })
-    .with_context(|| format!("writing {}", path.display()))
+    prisma::output::atomic::write_text(path, text).with_context(|| format!("writing {}", path.display()))
 }

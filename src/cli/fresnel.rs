@@ -229,11 +229,7 @@ fn parse_spec(spec: &str, wavelength_nm: f32) -> anyhow::Result<Interface> {
 }
 
 fn write_text(path: &Path, text: &str) -> anyhow::Result<()> {
-    prisma::output::atomic::write_atomically(path, |tmp| {
-        std::fs::write(tmp, text)
-            .map_err(|source| prisma::output::OutputError::Io { path: path.display().to_string(), source })
-    })?;
-    Ok(())
+    Ok(prisma::output::atomic::write_text(path, text)?)
 }
 
 /// A fixture file: its column names and numeric rows.

@@ -241,16 +241,7 @@ fn write_report(
         let _ = write!(html, "<figure><img src=\"{png}\" width=\"900\"><figcaption>{name}: largest |prisma − Mitsuba| = {largest:.2e}</figcaption></figure>");
     }
     html.push_str("</body></html>");
-    let write = |file: &str, text: &str| -> anyhow::Result<()> {
-        let path = dir.join(file);
-        prisma::output::atomic::write_atomically(&path, |tmp| {
-            std::fs::write(tmp, text).map_err(|source| prisma::output::OutputError::Io {
-                path: path.display().to_string(),
-                source,
-            })
-        })?;
-        Ok(())
-    };
+    let write = |file: &str, text: &str| prisma::output::atomic::write_text(&dir.join(file), text);
     write("report.md", &md)?;
-    write("index.html", &html)
+    Ok(write("index.html", &html)?)
 }

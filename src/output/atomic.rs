@@ -24,6 +24,14 @@ pub fn write_atomically(
     result
 }
 
+/// Writes `text` to `path` atomically.
+pub fn write_text(path: &Path, text: &str) -> Result<(), OutputError> {
+    write_atomically(path, |tmp| {
+        std::fs::write(tmp, text)
+            .map_err(|source| OutputError::Io { path: path.display().to_string(), source })
+    })
+}
+
 /// `dir/.name.tmp-PID.ext`, keeping the extension so encoders that look at it still work.
 fn temporary_path(path: &Path) -> PathBuf {
     let stem = path.file_stem().map_or_else(|| "output".into(), |s| s.to_string_lossy().into_owned());
