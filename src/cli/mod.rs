@@ -1,6 +1,7 @@
 //! Subcommands of the `prisma` binary, one file each, and the error type that maps failures to
 //! exit codes.
 
+mod bench;
 mod export;
 mod fresnel;
 mod glass;
@@ -32,6 +33,8 @@ enum Command {
     Glass(glass::GlassArgs),
     /// Compare prisma with Mitsuba 3 references and analytic answers (validation/cases.toml).
     Validate(validate::ValidateArgs),
+    /// Raw ray throughput of the BVH on an OBJ mesh for a stored ray set (benchmarks).
+    BenchRays(bench::BenchArgs),
 }
 
 /// A failed command: bad input (exit code 2) or a failure while running (exit code 1).
@@ -66,6 +69,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Some(Command::Fresnel(args)) => fresnel::run(&args),
         Some(Command::Glass(args)) => glass::run(&args),
         Some(Command::Validate(args)) => validate::run(&args),
+        Some(Command::BenchRays(args)) => bench::run(&args),
         None => render::run(&render::RenderArgs::default_scene(default_scene())),
     }
 }
