@@ -22,9 +22,10 @@ use super::ValidateError;
 
 /// Default prisma samples per pixel of each of the two renders of a case.
 pub const DEFAULT_SPP: u32 = 256;
-/// Default largest relative MSE, mean of (p − m)²/(m² + 0.01).
-pub const DEFAULT_MAX_REL_MSE: f64 = 2e-3;
-/// Default largest fraction of pixels whose |z| exceeds [`super::metrics::Z_OUTLIER`].
+/// Default largest relative MSE beyond what the measured noise explains.
+pub const DEFAULT_MAX_REL_MSE: f64 = 5e-4;
+/// Default largest fraction of pixels whose |z| exceeds [`super::metrics::Z_OUTLIER`], beyond the
+/// fraction seen between two renders of the same renderer.
 pub const DEFAULT_MAX_OUTLIER_FRACTION: f64 = 0.005;
 /// Default largest |z| of the image-wide mean difference of any channel.
 pub const DEFAULT_MAX_MEAN_Z: f64 = 5.0;

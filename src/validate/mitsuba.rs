@@ -111,13 +111,13 @@ pub fn run_case(
     let comparison = compare(&renders[0], &renders[1], &ref_a, &ref_b);
     let checks = vec![
         Check {
-            metric: "relMSE".into(),
-            value: comparison.rel_mse,
+            metric: "relMSE beyond noise".into(),
+            value: comparison.rel_mse_excess,
             threshold: case.max_rel_mse.unwrap_or(cases::DEFAULT_MAX_REL_MSE),
         },
         Check {
-            metric: format!("pixels |z|>{Z_OUTLIER}"),
-            value: comparison.outlier_fraction,
+            metric: format!("pixels |z|>{Z_OUTLIER} beyond null"),
+            value: comparison.outlier_fraction - comparison.null_outlier_fraction,
             threshold: case.max_outlier_fraction.unwrap_or(cases::DEFAULT_MAX_OUTLIER_FRACTION),
         },
         Check {

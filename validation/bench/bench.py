@@ -1,0 +1,253 @@
+#!/usr/bin/env python3
+"""prisma against Mitsuba 3 on this machine, in one run: ray throughput and time to equal error.
+
+Measures, with the same inputs for both renderers:
+
+1. Raw ray throughput on one procedural mesh (a displaced sphere of ~1M triangles): prisma's BVH
+   (`prisma bench-rays`) against Mitsuba's `ray_intersect` / `ray_test` (Embree) in the
+   llvm_ad_spectral variant, for coherent camera rays and incoherent random rays. Best of three
+   passes; Mitsuba's first (JIT-compiling) pass is excluded.
+2. Rendering: wall time, samples per second and time to equal error on (a) a specular-only glass
+   scene, where Mitsuba's path tracer computes exactly Whitted, and (b) the TP6 mirror + glass scene,
+   where Mitsuba runs the Whitted integrator of validation/mitsuba/whitted.py. The error is the
+   relative MSE against the converged reference (the mean of the two committed Mitsuba
+   references). Monte Carlo error falls as 1/time, so each renderer is summarised by its
+   efficiency constant k = relMSE × seconds (median over sample counts): the time to reach an
+   error E is k/E, and the speed ratio at equal error is k_mitsuba / k_prisma.
+
+Run from the repository root after validation/setup.sh and `cargo build --release`:
+  export DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM-19.so
+  validation/.venv/bin/python validation/bench/bench.py            # writes validation/bench/RESULTS.md
+  validation/.venv/bin/python validation/bench/bench.py --quick    # smaller, for a smoke test
+"""
+
+import argparse
+import datetime
+import json
+import os
+import pathlib
+import platform
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+REPO = pathlib.Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(REPO / "validation" / "mitsuba"))
+
+import drjit as dr  # noqa: E402
+import mitsuba as mi  # noqa: E402
+
+import translate  # noqa: E402
+
+CASES = [
+    ("specular glass (path = Whitted)", "specular_spheres", "path"),
+    ("TP6 mirror + glass (Whitted)", "tp6_point", "whitted"),
+]
+
+
+def machine():
+    model = "unknown CPU"
+    try:
+        for line in open("/proc/cpuinfo"):
+            if line.startswith("model name"):
+                model = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        pass
+    return f"{model}, {os.cpu_count()} logical cores, {platform.system()} {platform.release()}"
+
+
+def displaced_sphere(path, rings):
+    """A closed, bumpy UV sphere with about 2·rings² triangles, written as OBJ."""
+    theta = np.linspace(0.0, np.pi, rings + 1)[1:-1]
+    phi = np.linspace(0.0, 2.0 * np.pi, rings, endpoint=False)
+    t, p = np.meshgrid(theta, phi, indexing="ij")
+    radius = 1.0 + 0.05 * np.sin(7 * t) * np.cos(9 * p) + 0.02 * np.sin(31 * t + 17 * p)
+    xyz = np.stack([radius * np.sin(t) * np.cos(p), radius * np.cos(t), radius * np.sin(t) * np.sin(p)], -1)
+    vertices = np.concatenate([[[0.0, 1.0, 0.0]], xyz.reshape(-1, 3), [[0.0, -1.0, 0.0]]])
+    n_rings, n = len(theta), rings
+    idx = lambda r, s: 1 + r * n + (s % n)  # noqa: E731
+    faces = []
+    for s in range(n):
+        faces.append((0, idx(0, s + 1), idx(0, s)))
+        faces.append((len(vertices) - 1, idx(n_rings - 1, s), idx(n_rings - 1, s + 1)))
+    r = np.arange(n_rings - 1)[:, None]
+    s = np.arange(n)[None, :]
+    a, b, c, d = idx(r, s), idx(r, s + 1), idx(r + 1, s), idx(r + 1, s + 1)
+    quads = np.stack([np.stack([a, b, c], -1), np.stack([b, d, c], -1)], -2).reshape(-1, 3)
+    faces = np.concatenate([np.array(faces), quads])
+    with open(path, "w") as f:
+        f.write("".join(f"v {x:.6f} {y:.6f} {z:.6f}\n" for x, y, z in vertices))
+        f.write("".join(f"f {i + 1} {j + 1} {k + 1}\n" for i, j, k in faces))
+    return len(faces)
+
+
+def ray_sets(count, rng):
+    """Coherent (a pinhole camera's grid aimed at the mesh) and incoherent rays, float32 (N, 6)."""
+    side = int(round(count ** 0.5))
+    u, v = np.meshgrid(np.linspace(-0.6, 0.6, side), np.linspace(-0.6, 0.6, side))
+    d = np.stack([u.ravel(), v.ravel(), np.ones(side * side)], -1)
+    d /= np.linalg.norm(d, axis=1, keepdims=True)
+    coherent = np.concatenate([np.tile([0.0, 0.0, -3.0], (side * side, 1)), d], 1)
+    origins = rng.normal(size=(count, 3))
+    origins *= 2.5 / np.linalg.norm(origins, axis=1, keepdims=True)
+    targets = rng.uniform(-1.0, 1.0, size=(count, 3))
+    d = targets - origins
+    d /= np.linalg.norm(d, axis=1, keepdims=True)
+    incoherent = np.concatenate([origins, d], 1)
+    return {"coherent": coherent.astype(np.float32), "incoherent": incoherent.astype(np.float32)}
+
+
+def mitsuba_rays(obj, rays, repeat=3):
+    scene = mi.load_dict({"type": "scene", "mesh": {"type": "obj", "filename": str(obj)}})
+    r = rays.astype(np.float32)
+    ray = mi.Ray3f(mi.Point3f(r[:, 0], r[:, 1], r[:, 2]), mi.Vector3f(r[:, 3], r[:, 4], r[:, 5]))
+    best = {}
+    for name, fn in [("closest", lambda: scene.ray_intersect(ray, ray_flags=mi.RayFlags.Minimal, coherent=False).t),
+                     ("any", lambda: scene.ray_test(ray))]:
+        dr.eval(fn())  # JIT compile
+        times = []
+        for _ in range(repeat):
+            start = time.perf_counter()
+            out = fn()
+            dr.eval(out)
+            dr.sync_thread()
+            times.append(time.perf_counter() - start)
+        best[name] = len(r) / min(times) * 1e-6
+    t = np.array(scene.ray_intersect(ray).t)
+    hits = np.isfinite(t)
+    best["hits"] = int(hits.sum())
+    best["mean_t"] = float(t[hits].mean()) if hits.any() else float("nan")
+    return best
+
+
+def prisma_rays(prisma, obj, ray_file):
+    out = subprocess.run([prisma, "bench-rays", "--obj", str(obj), "--rays", str(ray_file), "--threads",
+                          str(os.cpu_count())], check=True, capture_output=True, text=True).stdout
+    return json.loads(out.strip().splitlines()[-1])
+
+
+def rel_mse(image, reference):
+    return float(np.mean((image - reference) ** 2 / (reference ** 2 + 1e-2)))
+
+
+def read_exr(path, channels):
+    bitmap = mi.Bitmap(str(path))
+    names = [bitmap.struct_()[i].name for i in range(bitmap.channel_count())]
+    data = np.array(bitmap, dtype=np.float64)
+    return np.stack([data[..., names.index(c)] for c in channels], -1)
+
+
+def prisma_render(prisma, scene, spp, out_dir):
+    out = out_dir / f"prisma_{scene.stem}_{spp}.exr"
+    start = time.perf_counter()
+    subprocess.run([prisma, "render", str(scene), "--spp", str(spp), "-o", str(out), "--quiet", "--seed", "7"],
+                   check=True)
+    return time.perf_counter() - start, read_exr(out, ["R", "G", "B"])
+
+
+def mitsuba_render(variant, prisma, scene_path, integrator_kind, spp, export_dir):
+    mi.set_variant(variant)
+    scene = translate.PrismaScene.load(scene_path, export_dir, prisma)
+    integrator = (translate.whitted_integrator if integrator_kind == "whitted" else translate.path_integrator)(
+        scene.max_depth)
+    mitsuba_scene = mi.load_dict(translate.Translator(scene, None, False).scene_dict(integrator, spp))
+    timings = []
+    for k in range(2):  # the first llvm render includes JIT compilation
+        start = time.perf_counter()
+        image = np.array(mi.render(mitsuba_scene, spp=spp, seed=11 + k), dtype=np.float64)
+        timings.append(time.perf_counter() - start)
+    return timings, image[..., :3]
+
+
+def efficiency(points):
+    """Median of relMSE × seconds over the points (error ∝ 1/time for Monte Carlo)."""
+    return statistics.median(e * t for t, e in points)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="small mesh, few sample counts")
+    parser.add_argument("--out", type=pathlib.Path, default=REPO / "validation" / "bench" / "RESULTS.md")
+    args = parser.parse_args()
+    prisma = translate.find_prisma()
+    rng = np.random.default_rng(1)
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        tmp = pathlib.Path(tmp)
+        mi.set_variant("llvm_ad_spectral")
+        obj = tmp / "mesh.obj"
+        triangles = displaced_sphere(obj, 120 if args.quick else 708)
+        ray_rows = []
+        for kind, rays in ray_sets(200_000 if args.quick else 1_000_000, rng).items():
+            ray_file = tmp / f"{kind}.bin"
+            rays.tofile(ray_file)
+            p = prisma_rays(prisma, obj, ray_file)
+            m = mitsuba_rays(obj, rays)
+            ray_rows.append((kind, len(rays), p, m))
+            print(f"rays {kind}: prisma {p['closest_mrays_s']:.2f} / {p['any_mrays_s']:.2f} Mrays/s, "
+                  f"Mitsuba {m['closest']:.2f} / {m['any']:.2f} Mrays/s (closest / any); "
+                  f"hits {p['hits']} vs {m['hits']}", flush=True)
+
+        spp_levels = [4, 16] if args.quick else [4, 16, 64, 256]
+        for title, case, kind in CASES:
+            scene_path = REPO / "validation" / "scenes" / f"{case}.toml"
+            references = [REPO / "validation" / "references" / f"{case}_seed{k}.exr" for k in (1, 2)]
+            reference = np.mean([read_exr(r, ["R", "G", "B"]) for r in references], axis=0)
+            pixels = reference.shape[0] * reference.shape[1]
+            result = {"prisma": [], "llvm_ad_spectral": [], "scalar_spectral": []}
+            for spp in spp_levels:
+                seconds, image = prisma_render(prisma, scene_path, spp, tmp)
+                result["prisma"].append((spp, seconds, rel_mse(image, reference)))
+                for variant in ("llvm_ad_spectral", "scalar_spectral"):
+                    if variant == "scalar_spectral" and kind == "whitted":
+                        continue  # Python integrators do not run in scalar variants
+                    if variant == "scalar_spectral" and spp > 16:
+                        continue  # minutes per render; two sample counts are enough for its constant
+                    timings, image = mitsuba_render(variant, prisma, scene_path, kind, spp, tmp / f"export_{case}")
+                    result[variant].append((spp, timings[-1], rel_mse(image, reference)))
+                print(f"{case} spp {spp}: " + ", ".join(
+                    f"{k} {v[-1][1]:.2f} s relMSE {v[-1][2]:.2e}" for k, v in result.items() if v
+                    and v[-1][0] == spp), flush=True)
+            rows.append((title, case, pixels, result))
+
+    lines = [
+        "# prisma vs Mitsuba 3: benchmark results",
+        "",
+        f"Date: {datetime.date.today().isoformat()}. Machine: {machine()}.",
+        f"Mitsuba {mi.__version__}; prisma `{prisma}`. Command: "
+        f"`validation/.venv/bin/python validation/bench/bench.py{' --quick' if args.quick else ''}`.",
+        "",
+        f"## Ray throughput on a {triangles:,}-triangle mesh (Mrays/s, all cores, best of 3)",
+        "",
+        "| rays | count | prisma closest | Mitsuba (Embree) closest | ratio | prisma any-hit | Mitsuba any-hit | ratio | hits prisma / Mitsuba |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
+    for kind, count, p, m in ray_rows:
+        lines.append(f"| {kind} | {count:,} | {p['closest_mrays_s']:.2f} | {m['closest']:.2f} | "
+                     f"{p['closest_mrays_s'] / m['closest']:.2f} | {p['any_mrays_s']:.2f} | {m['any']:.2f} | "
+                     f"{p['any_mrays_s'] / m['any']:.2f} | {p['hits']} / {m['hits']} |")
+    lines += [f"", f"prisma BVH build: {ray_rows[0][2]['build_s']:.2f} s for {triangles:,} triangles.", ""]
+    for title, case, pixels, result in rows:
+        lines += [f"## {title} (`validation/scenes/{case}.toml`)", "",
+                  "| renderer | spp | wall time (s) | samples/s | relMSE |", "|---|---|---|---|---|"]
+        for renderer, points in result.items():
+            for spp, seconds, error in points:
+                lines.append(f"| {renderer} | {spp} | {seconds:.2f} | {pixels * spp / seconds:,.0f} | {error:.3e} |")
+        k = {r: efficiency([(s, e) for _, s, e in pts]) for r, pts in result.items() if pts}
+        lines += ["", "Time to equal error, as the efficiency constant k = relMSE × seconds (lower is faster): "
+                  + ", ".join(f"{r} {v:.3e}" for r, v in k.items()) + "."]
+        for r, v in k.items():
+            if r != "prisma":
+                lines.append(f"- prisma is **{v / k['prisma']:.2f}×** as fast as Mitsuba `{r}` at equal error.")
+        lines.append("")
+    args.out.write_text("\n".join(lines) + "\n")
+    print("\n".join(lines))
+
+
+if __name__ == "__main__":
+    main()
