@@ -11,7 +11,7 @@
 //!
 //! Criterion reports "elements/s": rays per second. `cargo bench --bench intersect`. Under
 //! `cargo test --benches` (criterion's quick test mode, one iteration) the mesh is 20 000
-//! triangles so that the test stays fast.
+//! triangles so that the test stays fast, unless `PRISMA_BENCH_FULL` is set.
 
 use std::hint::black_box;
 use std::time::Instant;
@@ -22,9 +22,11 @@ use prisma::geometry::{Geometry, Mesh, Ray, Shape};
 use rand_core::{RngCore, SeedableRng};
 use rand_pcg::Pcg64;
 
-/// True under `cargo bench` (cargo passes `--bench`), false in `cargo test`'s quick mode.
+/// True under `cargo bench` (cargo passes `--bench`) or with `PRISMA_BENCH_FULL` set (to profile
+/// one iteration of each benchmark on the full mesh, e.g. under valgrind, in criterion's test
+/// mode); false in `cargo test`'s quick mode.
 fn full_size() -> bool {
-    std::env::args().any(|arg| arg == "--bench")
+    std::env::args().any(|arg| arg == "--bench") || std::env::var_os("PRISMA_BENCH_FULL").is_some()
 }
 
 /// A sphere of radius 1 with a 10 % bump, tessellated into `2·rings·segments` triangles (the pole
