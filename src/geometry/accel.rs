@@ -1,7 +1,7 @@
 //! [`Geometry`]: every shape of the scene, with a BVH over the finite ones and the infinite planes
 //! tested separately.
 //!
-//! Planes are tested first, in a linear scan (a scene has a handful), so that their hit bounds
+//! Planes are tested first, four at a time (a scene has a handful), so that their hit bounds
 //! the BVH traversal; then the BVH over spheres, quads and triangles. Each ray is prepared once
 //! (watertight shear for triangles and quads, inverse direction for the boxes).
 //!
@@ -18,7 +18,7 @@ use glam::Vec3;
 
 use super::aabb::Aabb;
 use super::bvh::{Bvh, BvhPrimitive, BvhStats};
-use super::packet::{pack_leaf, quad_uv, Lane, Packet};
+use super::packet::{pack_leaf, quad_uv, Lane, Packet, PlanePacket};
 use super::triangle::{ShearedRay, TriangleHit};
 use super::{Hit, Mesh, Ray, Shape};
 
@@ -36,8 +36,8 @@ enum Nearest {
 pub struct Geometry {
     shapes: Vec<Shape>,
     meshes: Vec<Mesh>,
-    /// Indices of the infinite planes in `shapes`.
-    planes: Vec<u32>,
+    /// The infinite planes, four to a packet.
+    planes: Vec<PlanePacket>,
     /// Over every other shape; its leaves are runs of `packets`.
     bvh: Bvh,
     /// The finite shapes in leaf order.
@@ -67,7 +67,10 @@ impl Geometry {
             }
             match shape.bounds(&meshes) {
                 Some(bounds) => primitives.push(BvhPrimitive { id: index as u32, bounds }),
-                None => planes.push(index as u32),
+                None => match shape {
+                    Shape::Plane(plane) => planes.push((index as u32, *plane)),
+                    _ => unreachable!("only planes are unbounded"),
+                },
             }
         }
         let (mut bvh, ids) = Bvh::build(primitives);
@@ -90,20 +93,24 @@ impl Geometry {
             let leaf = leaves.binary_search_by_key(&first, |&(first, _)| first).expect("a leaf of the BVH");
             runs[leaf]
         });
-        Self { shapes, meshes, planes, bvh, packets }
+        Self { shapes, meshes, planes: PlanePacket::pack(&planes), bvh, packets }
     }
 
     /// The nearest hit with t in (0, `t_max`).
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
-        let sheared = ShearedRay::new(*ray);
         let mut nearest_plane: Option<Hit> = None;
         let mut t_limit = t_max;
-        for &index in &self.planes {
-            if let Some(hit) = self.shapes[index as usize].intersect(&self.meshes, &sheared, t_limit, index) {
-                t_limit = hit.t;
-                nearest_plane = Some(hit);
+        for packet in &self.planes {
+            if let Some(lane) = packet.nearest(ray, t_limit) {
+                let (index, plane) = packet.plane(lane);
+                // The packet's choice repeats Plane::intersect's arithmetic, so this hits.
+                if let Some(hit) = plane.intersect(ray, t_limit, index) {
+                    t_limit = hit.t;
+                    nearest_plane = Some(hit);
+                }
             }
         }
+        let sheared = ShearedRay::new(*ray);
         let mut nearest: Option<Nearest> = None;
         let found = self.bvh.closest_hit(ray, t_limit, |first, count, mut t_limit| {
             let mut found = None;
@@ -164,13 +171,10 @@ impl Geometry {
 
     /// True when anything is hit with t in (0, `t_max`) (shadow rays).
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
-        let sheared = ShearedRay::new(*ray);
-        let hits_plane = |index: u32| {
-            self.shapes[index as usize].intersect(&self.meshes, &sheared, t_max, index).is_some()
-        };
-        if self.planes.iter().any(|&index| hits_plane(index)) {
+        if self.planes.iter().any(|packet| packet.any(ray, t_max)) {
             return true;
         }
+        let sheared = ShearedRay::new(*ray);
         self.bvh.any_hit(ray, t_max, |first, count, t_max| {
             self.packets[first as usize..(first + count) as usize].iter().any(|packet| {
                 if packet.holds_spheres() {

@@ -1,6 +1,8 @@
 //! [`Packet`]: up to four finite shapes of a BVH leaf, stored by coordinate ("structure of
 //! arrays") so that a ray is tested against four triangles with 4-wide vector arithmetic.
 //!
+//! [`PlanePacket`]s do the same for the infinite planes, which are not in the BVH.
+//!
 //! A triangle packet holds triangles of meshes and the two halves of quads (a quad is tested
 //! as its two triangles, lower half first, exactly as [`super::Quad`] does); a sphere packet
 //! holds spheres. Lanes that hold nothing, and triangles or quads that can never be hit
@@ -17,8 +19,9 @@
 
 use glam::{BVec4A, Vec3, Vec4};
 
+use super::rounding::gamma;
 use super::triangle::{intersect_triangle, ShearedRay, TriangleHit};
-use super::{Quad, Sphere};
+use super::{Plane, Quad, Ray, Sphere};
 
 /// Shapes per packet.
 pub(crate) const LANES: usize = 4;
@@ -145,6 +148,96 @@ impl Packet {
     #[inline]
     pub(crate) fn intersect_lane(&self, lane: usize, ray: &ShearedRay, t_max: f32) -> Option<TriangleHit> {
         intersect_triangle(ray, &self.vertices(lane), t_max)
+    }
+}
+
+/// Up to four infinite planes, tested together: 112 bytes.
+///
+/// [`Self::nearest`] evaluates, four lanes at a time, exactly the f32 operations of
+/// [`Plane::intersect`] that decide whether and where it hits (numerator, denominator, their
+/// error bounds, the distance), so it finds the plane the scalar test would; the hit record is
+/// then built by [`Plane::intersect`] itself. Unused lanes are NaN and never hit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct PlanePacket {
+    /// x, y, z of a point of each plane.
+    point: [Vec4; 3],
+    /// x, y, z of each plane's unit normal.
+    normal: [Vec4; 3],
+    /// The index of each lane's plane in the list given to [`super::Geometry::build`].
+    ids: [u32; LANES],
+}
+
+impl PlanePacket {
+    /// Packs `planes` (id, plane) four at a time.
+    pub(crate) fn pack(planes: &[(u32, Plane)]) -> Vec<PlanePacket> {
+        planes
+            .chunks(LANES)
+            .map(|chunk| {
+                let mut packet =
+                    PlanePacket { point: [Vec4::NAN; 3], normal: [Vec4::NAN; 3], ids: [u32::MAX; LANES] };
+                for (lane, (id, plane)) in chunk.iter().enumerate() {
+                    packet.ids[lane] = *id;
+                    for axis in 0..3 {
+                        packet.point[axis][lane] = plane.point[axis];
+                        packet.normal[axis][lane] = plane.normal[axis];
+                    }
+                }
+                packet
+            })
+            .collect()
+    }
+
+    /// The plane in lane `lane`, and its index.
+    #[inline]
+    pub(crate) fn plane(&self, lane: usize) -> (u32, Plane) {
+        let at =
+            |row: &[Vec4; 3]| Vec3::new(row[0].as_ref()[lane], row[1].as_ref()[lane], row[2].as_ref()[lane]);
+        (self.ids[lane], Plane { point: at(&self.point), normal: at(&self.normal) })
+    }
+
+    /// A mask of the lanes that [`Plane::intersect`] hits with t in (0, `t_max`), and their
+    /// distances. Each line repeats, four lanes at a time, the operation it is named after.
+    #[inline(always)]
+    fn hits(&self, ray: &Ray, t_max: f32) -> (BVec4A, Vec4) {
+        let [origin_x, origin_y, origin_z] = ray.origin.to_array().map(Vec4::splat);
+        let [dir_x, dir_y, dir_z] = ray.dir.to_array().map(Vec4::splat);
+        let [normal_x, normal_y, normal_z] = self.normal;
+        // to_plane = point − origin.
+        let (to_x, to_y, to_z) =
+            (self.point[0] - origin_x, self.point[1] - origin_y, self.point[2] - origin_z);
+        // Vec3::dot: (x·x' + y·y') + z·z'.
+        let numerator = to_x * normal_x + to_y * normal_y + to_z * normal_z;
+        let denominator = dir_x * normal_x + dir_y * normal_y + dir_z * normal_z;
+        let (abs_x, abs_y, abs_z) = (normal_x.abs(), normal_y.abs(), normal_z.abs());
+        let error_numerator =
+            Vec4::splat(gamma(4)) * (to_x.abs() * abs_x + to_y.abs() * abs_y + to_z.abs() * abs_z);
+        let error_denominator =
+            Vec4::splat(gamma(3)) * (dir_x.abs() * abs_x + dir_y.abs() * abs_y + dir_z.abs() * abs_z);
+        let t = numerator / denominator;
+        let hit = numerator.abs().cmpgt(error_numerator)
+            & denominator.abs().cmpgt(error_denominator)
+            & t.cmpgt(Vec4::ZERO)
+            & t.cmplt(Vec4::splat(t_max));
+        (hit, t)
+    }
+
+    /// The lane of the nearest plane hit with t in (0, `t_max`), the first one among equal
+    /// distances (as a scan with a shrinking `t_max` finds it), if any.
+    #[inline]
+    pub(crate) fn nearest(&self, ray: &Ray, t_max: f32) -> Option<usize> {
+        let (hit, t) = self.hits(ray, t_max);
+        if !hit.any() {
+            return None;
+        }
+        let t = Vec4::select(hit, t, Vec4::INFINITY);
+        let nearest = t.min_element();
+        Some(t.cmpeq(Vec4::splat(nearest)).bitmask().trailing_zeros() as usize)
+    }
+
+    /// True when a plane of the packet is hit with t in (0, `t_max`).
+    #[inline]
+    pub(crate) fn any(&self, ray: &Ray, t_max: f32) -> bool {
+        self.hits(ray, t_max).0.any()
     }
 }
 
