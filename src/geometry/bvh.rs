@@ -1,40 +1,79 @@
-//! The bounding volume hierarchy over the finite shapes.
+//! The bounding volume hierarchy over the finite shapes: a 4-wide BVH ("BVH4", as in Embree:
+//! I. Wald et al., "Embree: A Kernel Framework for Efficient CPU Ray Tracing", *ACM TOG* 33(4),
+//! 2014; the collapse of a binary tree into a wide one follows Wald, Benthin, Boulos, "Getting
+//! Rid of Packets", *IEEE Symposium on Interactive Ray Tracing* 2008).
 //!
-//! * **Build**: top-down, binned surface area heuristic (SAH: Goldsmith & Salmon 1987,
-//!   MacDonald & Booth 1990) with 16 bins over the centroid bounds on each axis, as in I. Wald,
-//!   "On fast Construction of SAH-based Bounding Volume Hierarchies", *IEEE Symposium on
-//!   Interactive Ray Tracing* 2007. Leaves hold at most 4 primitives. When every centroid
-//!   coincides the node is split by count. The build runs on an explicit work list (no
-//!   recursion) and is O(n log n): each level bins and partitions its primitives once, and a
-//!   depth cap forces median splits before any subtree could grow deeper than [`MAX_DEPTH`].
-//! * **Layout**: one flat `Vec` of 32-byte nodes in depth-first order; an interior node's first
-//!   child is the next node and it stores the index of its second child (PBR 3rd ed. §4.3.4,
-//!   "compact BVH for traversal"). Leaves store a range of primitive ids.
-//! * **Traversal**: explicit fixed-size stack, both children tested at their parent and the
-//!   nearer entered first, the farther pushed with its entry distance and skipped on pop when a
-//!   closer hit has been found; slab tests with a precomputed inverse direction, robust per
-//!   Ize 2013 (see [`super::aabb`]).
+//! * **Build**: a binary tree first, top-down, with the binned surface area heuristic (SAH:
+//!   Goldsmith & Salmon 1987, MacDonald & Booth 1990) over `BIN_COUNT` (16) bins of the centroid
+//!   bounds on each axis, all three axes binned in one pass (I. Wald, "On fast Construction of
+//!   SAH-based Bounding Volume Hierarchies", *IEEE Symposium on Interactive Ray Tracing* 2007).
+//!   The caller intersects primitives [`LEAF_BLOCK`] at a time, so the SAH counts a leaf's cost
+//!   in such blocks (as Embree does for its 4-triangle leaves): one to four primitives cost the
+//!   same, and leaves fill up to four. Leaves hold at most [`MAX_LEAF_PRIMITIVES`]. Subtrees of
+//!   more than `PARALLEL_BUILD_MIN` primitives are built in parallel (`rayon::join`). When
+//!   every centroid coincides the node is split by count; a depth cap forces median splits
+//!   before any subtree could grow deeper than [`MAX_DEPTH`], so the build stays O(n log n).
+//! * **Collapse**: each node of the 4-wide tree takes the two children of a binary node and
+//!   keeps replacing the child of largest surface area by its own two children until it has
+//!   four (or only leaves are left).
+//! * **Layout**: one flat `Vec` of 128-byte nodes (two cache lines) in depth-first order; a
+//!   node stores the boxes of its four children in structure-of-arrays form (one lane per
+//!   child), so one node visit tests four boxes with 4-wide vector arithmetic. Leaves are not
+//!   nodes: a child slot is either another node or a run of consecutive positions in the
+//!   *leaf order* that [`Bvh::build`] returns, which the caller may renumber
+//!   ([`Bvh::map_leaves`]; [`super::Geometry`] makes them runs of its primitive packets).
+//! * **Traversal**: a fixed-size stack holding (child, entry distance); the children a ray
+//!   enters are visited nearest first, the others pushed and skipped on pop once a closer hit
+//!   is known (any-hit traversal skips the sort and stops at the first hit). The slab test is
+//!   robust (T. Ize, "Robust BVH Ray Traversal", *JCGT* 2(2), 2013): the exit distance is
+//!   enlarged by 1 + 2·γ(3) so that rounding in `(bound − origin)·(1/dir)` never makes a ray
+//!   miss a box that holds the primitive it hits. A direction component of ±0 gives an
+//!   infinite inverse; the one indeterminate case, 0·∞ (origin exactly on a slab plane of a ray
+//!   parallel to it), constrains nothing, which is the conservative answer.
 
-use glam::Vec3;
+use std::mem::MaybeUninit;
 
-use super::aabb::{Aabb, BoxRay};
+use glam::Vec4;
+
+use super::aabb::Aabb;
+use super::rounding::gamma;
 use super::Ray;
 
 /// Most primitives in one leaf.
-pub const MAX_LEAF_PRIMITIVES: usize = 4;
+pub const MAX_LEAF_PRIMITIVES: usize = 8;
 
-/// Deepest leaf the build produces (root at depth 0); also the traversal stack size, since the
-/// stack holds at most one pending sibling per level.
+/// Primitives the caller intersects together (prisma: four triangles in one 4-wide test): the
+/// SAH counts the cost of a leaf in such blocks, so a leaf of 1 to 4 costs the same.
+pub const LEAF_BLOCK: usize = 4;
+
+/// Deepest leaf of the binary tree (root at depth 0); the 4-wide tree is never deeper. Also
+/// bounds the traversal stack, which holds at most three pending children per level.
 pub const MAX_DEPTH: usize = 64;
 
 /// SAH bins per axis.
 const BIN_COUNT: usize = 16;
 
-/// Cost of visiting an interior node, in units of one primitive intersection (both children's
-/// slab tests against a triangle or quad test, which is several times a single slab test).
+/// Cost of visiting a node (four slab tests in one 4-wide test), in units of the intersection
+/// of one block of [`LEAF_BLOCK`] primitives.
 const TRAVERSAL_COST: f32 = 1.0;
 
-/// A primitive to build over: its id (reported back by the traversal) and its bounds.
+/// Subtrees with more primitives than this are built in parallel; below, the work per task is
+/// too small to be worth a split.
+const PARALLEL_BUILD_MIN: usize = 4096;
+
+/// Child slots per node.
+const WIDTH: usize = 4;
+
+/// The traversal stack: three pending children per level at most.
+const STACK_SIZE: usize = (WIDTH - 1) * MAX_DEPTH + 1;
+
+/// Ize (2013), §3: the rounding of `(bound − origin)·inv_dir` and of `inv_dir = 1/dir` moves a
+/// slab distance by at most a relative γ(3) each way, so scaling the exit by 1 + 2γ(3) keeps the
+/// computed interval a superset of the true one.
+const ROBUST_EXIT_SCALE: f32 = 1.0 + 2.0 * gamma(3);
+
+/// A primitive to build over: its id (reported back in leaf order by [`Bvh::build`]) and its
+/// bounds.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BvhPrimitive {
     /// Caller's identifier (prisma: the index of the shape).
@@ -43,21 +82,47 @@ pub struct BvhPrimitive {
     pub bounds: Aabb,
 }
 
-/// One node, 32 bytes.
+/// One node: the boxes of up to four children, 128 bytes.
 #[derive(Clone, Copy, Debug, PartialEq)]
-#[repr(C)]
+#[repr(C, align(64))]
 struct Node {
-    min: Vec3,
-    /// Leaf: index of the first id in `Bvh::ids`. Interior: index of the second child.
-    offset: u32,
-    max: Vec3,
-    /// Leaf: number of primitives (≥ 1). Interior: 0.
-    count: u32,
+    /// The children's boxes by plane: min x, max x, min y, max y, min z, max z; lane i is
+    /// child i. An unused slot has the empty box (min +∞, max −∞), which no ray enters.
+    planes: [Vec4; 6],
+    /// Interior child: index of its node. Leaf child: its first position in leaf order (or
+    /// what [`Bvh::map_leaves`] made of it).
+    child: [u32; WIDTH],
+    /// Leaf child: number of primitives (≥ 1; or what [`Bvh::map_leaves`] made of it).
+    /// Interior child and unused slot: 0.
+    count: [u32; WIDTH],
 }
 
 impl Node {
-    fn bounds(&self) -> Aabb {
-        Aabb { min: self.min, max: self.max }
+    const EMPTY: Node = Node {
+        planes: [
+            Vec4::INFINITY,
+            Vec4::NEG_INFINITY,
+            Vec4::INFINITY,
+            Vec4::NEG_INFINITY,
+            Vec4::INFINITY,
+            Vec4::NEG_INFINITY,
+        ],
+        child: [u32::MAX; WIDTH],
+        count: [0; WIDTH],
+    };
+
+    /// Slot `slot` (taken modulo [`WIDTH`]) as a child to visit, entered at `entry[slot]`.
+    #[inline(always)]
+    fn pending(&self, slot: usize, entry: &[f32; WIDTH]) -> Pending {
+        let slot = slot % WIDTH;
+        Pending { child: self.child[slot], count: self.count[slot], entry: entry[slot] }
+    }
+
+    fn set_bounds(&mut self, slot: usize, bounds: &Aabb) {
+        for axis in 0..3 {
+            self.planes[2 * axis][slot] = bounds.min[axis];
+            self.planes[2 * axis + 1][slot] = bounds.max[axis];
+        }
     }
 }
 
@@ -66,201 +131,430 @@ impl Node {
 pub struct BvhStats {
     /// Primitives in the hierarchy.
     pub primitives: usize,
-    /// Nodes (interior and leaves).
+    /// Nodes (4-wide; leaves are child slots, not nodes).
     pub nodes: usize,
-    /// Leaf nodes.
+    /// Leaves (runs of at most [`MAX_LEAF_PRIMITIVES`] primitives).
     pub leaves: usize,
-    /// Depth of the deepest leaf (the root is at depth 0).
+    /// Depth of the deepest leaf: 1 for a leaf in the root node's slots.
     pub max_depth: usize,
-    /// Memory of the nodes and the primitive id list (bytes), excluding the primitives.
+    /// Memory of the nodes (bytes).
     pub bytes: usize,
+    /// Memory of the primitive data the intersector keeps in leaf order next to the hierarchy
+    /// (bytes; for [`super::Geometry`], the packets that copy the triangles' vertices, the
+    /// other shapes and their indices), not counted in [`Self::bytes`].
+    pub primitive_bytes: usize,
 }
 
 impl BvhStats {
     /// [`Self::bytes`] per primitive (bytes per triangle for a mesh); 0 when empty.
     pub fn bytes_per_primitive(&self) -> f64 {
+        self.per_primitive(self.bytes)
+    }
+
+    /// [`Self::bytes`] and [`Self::primitive_bytes`] together, per primitive; 0 when empty.
+    pub fn total_bytes_per_primitive(&self) -> f64 {
+        self.per_primitive(self.bytes + self.primitive_bytes)
+    }
+
+    fn per_primitive(&self, bytes: usize) -> f64 {
         if self.primitives == 0 {
             0.0
         } else {
-            self.bytes as f64 / self.primitives as f64
+            bytes as f64 / self.primitives as f64
         }
     }
 }
 
-/// A bounding volume hierarchy over primitives given by their bounds.
+/// A 4-wide bounding volume hierarchy over primitives given by their bounds.
 #[derive(Clone, Debug, Default)]
 pub struct Bvh {
     nodes: Vec<Node>,
-    ids: Vec<u32>,
+    primitives: usize,
+    /// The union of every primitive's box.
+    bounds: Option<Aabb>,
     max_depth: usize,
 }
 
-/// A node still to be built: primitives `start..end`, and the parent that needs this node's
-/// index as its second child.
-struct Task {
-    start: usize,
-    end: usize,
-    depth: usize,
-    second_child_of: Option<usize>,
+/// The binary tree of the first build stage.
+enum BuildNode {
+    Leaf { bounds: Aabb, start: u32, count: u32 },
+    Interior { bounds: Aabb, children: Box<[BuildNode; 2]> },
+}
+
+impl BuildNode {
+    fn bounds(&self) -> &Aabb {
+        match self {
+            BuildNode::Leaf { bounds, .. } | BuildNode::Interior { bounds, .. } => bounds,
+        }
+    }
 }
 
 impl Bvh {
-    /// Builds the hierarchy over `primitives` (in any order; ids need not be distinct).
+    /// Builds the hierarchy over `primitives` (in any order; ids need not be distinct), and
+    /// returns it with the primitives' ids in leaf order: the leaf the traversal reports as
+    /// positions `first..first + count` holds the primitives `ids[first..first + count]`.
     /// Non-finite bounds do not make it fail, but rays will not find such primitives reliably.
-    pub fn build(mut primitives: Vec<BvhPrimitive>) -> Bvh {
+    pub fn build(mut primitives: Vec<BvhPrimitive>) -> (Bvh, Vec<u32>) {
         if primitives.is_empty() {
-            return Bvh::default();
+            return (Bvh::default(), Vec::new());
         }
-        let mut nodes = Vec::with_capacity(primitives.len().div_ceil(MAX_LEAF_PRIMITIVES) * 2);
+        let root = build_binary(&mut primitives, 0, 0);
+        let bounds = *root.bounds();
+        let mut nodes = Vec::new();
         let mut max_depth = 0;
-        // Depth first: the second child is pushed first, so the first child is built next and
-        // lands right after its parent.
-        let mut tasks = vec![Task { start: 0, end: primitives.len(), depth: 0, second_child_of: None }];
-        while let Some(task) = tasks.pop() {
-            let index = nodes.len();
-            if let Some(parent) = task.second_child_of {
-                let parent: &mut Node = &mut nodes[parent];
-                parent.offset = index as u32;
+        match &root {
+            BuildNode::Leaf { bounds, start, count } => {
+                let mut node = Node::EMPTY;
+                node.set_bounds(0, bounds);
+                (node.child[0], node.count[0]) = (*start, *count);
+                nodes.push(node);
+                max_depth = 1;
             }
-            let items = &mut primitives[task.start..task.end];
-            let (bounds, centroids) = bounds_and_centroid_bounds(items);
-            let node = Node {
-                min: bounds.min,
-                offset: task.start as u32,
-                max: bounds.max,
-                count: items.len() as u32,
-            };
-            match choose_split(items, &bounds, &centroids, task.depth) {
-                None => {
-                    nodes.push(node);
-                    max_depth = max_depth.max(task.depth);
-                }
-                Some(left_count) => {
-                    nodes.push(Node { count: 0, ..node });
-                    let middle = task.start + left_count;
-                    tasks.push(Task {
-                        start: middle,
-                        end: task.end,
-                        depth: task.depth + 1,
-                        second_child_of: Some(index),
-                    });
-                    tasks.push(Task {
-                        start: task.start,
-                        end: middle,
-                        depth: task.depth + 1,
-                        second_child_of: None,
-                    });
+            BuildNode::Interior { .. } => {
+                emit(&root, &mut nodes, 0, &mut max_depth);
+            }
+        }
+        let bvh = Bvh { nodes, primitives: primitives.len(), bounds: Some(bounds), max_depth };
+        (bvh, primitives.iter().map(|p| p.id).collect())
+    }
+
+    /// Every leaf as (first position, count), in no particular order.
+    pub fn leaves(&self) -> Vec<(u32, u32)> {
+        let slots = self.nodes.iter().flat_map(|node| node.child.iter().zip(&node.count));
+        slots.filter(|&(_, &count)| count > 0).map(|(&first, &count)| (first, count)).collect()
+    }
+
+    /// Replaces every leaf's (first position, count) by `f(first, count)`, which must not give
+    /// a count of 0; the traversal then reports the new pair. (prisma: positions of shapes
+    /// become runs of packets of four.)
+    pub fn map_leaves(&mut self, mut f: impl FnMut(u32, u32) -> (u32, u32)) {
+        for node in &mut self.nodes {
+            for slot in 0..WIDTH {
+                if node.count[slot] > 0 {
+                    (node.child[slot], node.count[slot]) = f(node.child[slot], node.count[slot]);
+                    assert!(node.count[slot] > 0, "a leaf must keep a non-zero count");
                 }
             }
         }
-        Bvh { nodes, ids: primitives.iter().map(|p| p.id).collect(), max_depth }
     }
 
     /// The bounds of everything in the hierarchy; `None` when it is empty.
     pub fn bounds(&self) -> Option<Aabb> {
-        self.nodes.first().map(Node::bounds)
+        self.bounds
     }
 
-    /// Node count, depth and memory.
+    /// Node count, depth and memory (without primitive data: [`BvhStats::primitive_bytes`] is 0).
     pub fn stats(&self) -> BvhStats {
+        let leaves = self.nodes.iter().map(|n| n.count.iter().filter(|&&c| c > 0).count()).sum();
         BvhStats {
-            primitives: self.ids.len(),
+            primitives: self.primitives,
             nodes: self.nodes.len(),
-            leaves: self.nodes.iter().filter(|n| n.count > 0).count(),
+            leaves,
             max_depth: self.max_depth,
-            bytes: std::mem::size_of_val(self.nodes.as_slice()) + std::mem::size_of_val(self.ids.as_slice()),
+            bytes: std::mem::size_of_val(self.nodes.as_slice()),
+            primitive_bytes: 0,
         }
     }
 
-    /// Nearest-hit traversal: calls `intersect(id, t_max)` for the primitives whose boxes the
-    /// ray enters before `t_max`, nearest boxes first. `intersect` returns the distance of a hit
-    /// closer than the `t_max` it was given (which then shrinks), or `None`.
-    #[inline]
-    pub fn closest_hit(&self, ray: &Ray, t_max: f32, intersect: impl FnMut(u32, f32) -> Option<f32>) {
-        self.traverse::<false>(ray, t_max, intersect);
-    }
-
-    /// Any-hit traversal: true as soon as `intersect(id, t_max)` reports a hit.
-    #[inline]
-    pub fn any_hit(&self, ray: &Ray, t_max: f32, mut intersect: impl FnMut(u32, f32) -> bool) -> bool {
-        self.traverse::<true>(ray, t_max, |id, t| intersect(id, t).then_some(t))
-    }
-
-    /// The traversal loop; with `ANY_HIT` it returns at the first hit. Returns whether anything
+    /// Nearest-hit traversal: calls `intersect(first, count, t_max)` for the leaves whose boxes
+    /// the ray enters before `t_max`, nearest boxes first; leaf positions `first..first + count`
+    /// (see [`Self::build`] and [`Self::map_leaves`]). `intersect` returns the distance of the nearest hit in the leaf closer
+    /// than the `t_max` it was given (which then shrinks), or `None`. Returns whether anything
     /// was hit.
     #[inline]
-    fn traverse<const ANY_HIT: bool>(
+    pub fn closest_hit(
         &self,
         ray: &Ray,
         mut t_max: f32,
-        mut intersect: impl FnMut(u32, f32) -> Option<f32>,
+        mut intersect: impl FnMut(u32, u32, f32) -> Option<f32>,
     ) -> bool {
-        let box_ray = BoxRay::new(ray);
-        let Some(root) = self.nodes.first() else {
-            return false;
-        };
-        if root.bounds().entry_distance(&box_ray, t_max).is_none() {
+        if self.nodes.is_empty() {
             return false;
         }
-        let mut stack = [(0u32, 0f32); MAX_DEPTH];
-        let mut stack_len = 0;
-        let mut node_index = 0usize;
+        let boxes = RayBoxes::new(ray);
+        let mut stack = Stack::new();
+        let mut current = Pending { child: 0, count: 0, entry: 0.0 };
         let mut found = false;
         loop {
-            let node = &self.nodes[node_index];
-            if node.count > 0 {
-                let first = node.offset as usize;
-                for &id in &self.ids[first..first + node.count as usize] {
-                    if let Some(t) = intersect(id, t_max) {
-                        found = true;
-                        if ANY_HIT {
-                            return true;
-                        }
-                        t_max = t;
+            if current.count == 0 {
+                let node = &self.nodes[current.child as usize];
+                let (entry, mask) = boxes.enter(node, t_max);
+                let entry = entry.to_array();
+                // The entered children are visited nearest first: the nearest now, the others
+                // pushed farthest first. One or two children are the common cases.
+                // (Bit tricks rather than `count_ones`: x86-64's baseline has no `popcnt`.)
+                let rest = mask & mask.wrapping_sub(1);
+                let beyond_two = rest & rest.wrapping_sub(1);
+                match (mask, rest, beyond_two) {
+                    (0, _, _) => {}
+                    (_, 0, _) => {
+                        current = node.pending(mask.trailing_zeros() as usize, &entry);
+                        continue;
                     }
-                }
-            } else {
-                let first_child = node_index + 1;
-                let second_child = node.offset as usize;
-                let first_entry = self.nodes[first_child].bounds().entry_distance(&box_ray, t_max);
-                let second_entry = self.nodes[second_child].bounds().entry_distance(&box_ray, t_max);
-                match (first_entry, second_entry) {
-                    (Some(first_t), Some(second_t)) => {
-                        let (near, far, far_t) = if first_t <= second_t {
-                            (first_child, second_child, second_t)
+                    (_, _, 0) => {
+                        let first = mask.trailing_zeros() as usize;
+                        let second = rest.trailing_zeros() as usize;
+                        let (near, far) = if entry[second & 3] < entry[first & 3] {
+                            (second, first)
                         } else {
-                            (second_child, first_child, first_t)
+                            (first, second)
                         };
-                        stack[stack_len] = (far as u32, far_t);
-                        stack_len += 1;
-                        node_index = near;
+                        stack.push(node.pending(far, &entry));
+                        current = node.pending(near, &entry);
                         continue;
                     }
-                    (Some(_), None) => {
-                        node_index = first_child;
+                    _ => {
+                        // Three or four: insertion sort, nearest first.
+                        let mut hits = [Pending { child: 0, count: 0, entry: 0.0 }; WIDTH];
+                        let mut hit_count = 0;
+                        let mut remaining = mask;
+                        while remaining != 0 {
+                            let pending = node.pending(remaining.trailing_zeros() as usize, &entry);
+                            remaining &= remaining - 1;
+                            let mut i = hit_count;
+                            while i > 0 && hits[i - 1].entry > pending.entry {
+                                hits[i] = hits[i - 1];
+                                i -= 1;
+                            }
+                            hits[i] = pending;
+                            hit_count += 1;
+                        }
+                        for far in hits[1..hit_count].iter().rev() {
+                            stack.push(*far);
+                        }
+                        current = hits[0];
                         continue;
                     }
-                    (None, Some(_)) => {
-                        node_index = second_child;
-                        continue;
-                    }
-                    (None, None) => {}
                 }
+            } else if let Some(t) = intersect(current.child, current.count, t_max) {
+                found = true;
+                t_max = t;
             }
-            // Next pending node that a closer hit has not made irrelevant.
+            // Next pending child that a closer hit has not made irrelevant.
             loop {
-                if stack_len == 0 {
+                let Some(pending) = stack.pop() else {
                     return found;
-                }
-                stack_len -= 1;
-                let (pending, entry) = stack[stack_len];
-                if entry <= t_max {
-                    node_index = pending as usize;
+                };
+                if pending.entry <= t_max {
+                    current = pending;
                     break;
                 }
             }
         }
     }
+
+    /// Any-hit traversal: true as soon as `intersect(first, count, t_max)` reports a hit in a
+    /// leaf (see [`Self::closest_hit`]); children are visited in no particular order.
+    #[inline]
+    pub fn any_hit(&self, ray: &Ray, t_max: f32, mut intersect: impl FnMut(u32, u32, f32) -> bool) -> bool {
+        if self.nodes.is_empty() {
+            return false;
+        }
+        let boxes = RayBoxes::new(ray);
+        let mut stack = Stack::new();
+        let mut current = Pending { child: 0, count: 0, entry: 0.0 };
+        loop {
+            if current.count == 0 {
+                let node = &self.nodes[current.child as usize];
+                let (_, mut mask) = boxes.enter(node, t_max);
+                if mask != 0 {
+                    let no_entry = [0.0; WIDTH];
+                    let first = mask.trailing_zeros() as usize;
+                    mask &= mask - 1;
+                    while mask != 0 {
+                        stack.push(node.pending(mask.trailing_zeros() as usize, &no_entry));
+                        mask &= mask - 1;
+                    }
+                    current = node.pending(first, &no_entry);
+                    continue;
+                }
+            } else if intersect(current.child, current.count, t_max) {
+                return true;
+            }
+            match stack.pop() {
+                Some(pending) => current = pending,
+                None => return false,
+            }
+        }
+    }
+}
+
+/// A child waiting to be visited: a node (`count` 0) or a leaf, and the distance at which the
+/// ray enters its box.
+#[derive(Clone, Copy, Debug)]
+struct Pending {
+    child: u32,
+    count: u32,
+    entry: f32,
+}
+
+/// The traversal stack. Fixed size and left uninitialised: zeroing its 2.3 kB for every ray
+/// cost more than the whole traversal of a small scene.
+struct Stack {
+    entries: [MaybeUninit<Pending>; STACK_SIZE],
+    len: usize,
+}
+
+impl Stack {
+    #[inline]
+    fn new() -> Self {
+        Self { entries: [MaybeUninit::uninit(); STACK_SIZE], len: 0 }
+    }
+
+    /// Panics (index out of bounds) if the stack is full, which the depth cap rules out.
+    #[inline]
+    fn push(&mut self, pending: Pending) {
+        self.entries[self.len] = MaybeUninit::new(pending);
+        self.len += 1;
+    }
+
+    #[inline]
+    fn pop(&mut self) -> Option<Pending> {
+        self.len = self.len.checked_sub(1)?;
+        // SAFETY: entries[..len] were all written by `push` (len only grows there), and
+        // entries[len] is below the old length.
+        Some(unsafe { self.entries[self.len].assume_init() })
+    }
+}
+
+/// A ray prepared for 4-wide slab tests: its origin, the componentwise inverse of its direction
+/// (±∞ for zero components), each splat over four lanes, and for each axis which plane of a box
+/// it meets first.
+#[derive(Clone, Copy, Debug)]
+struct RayBoxes {
+    origin: [Vec4; 3],
+    inv_dir: [Vec4; 3],
+    /// Row of [`Node::planes`] holding the near plane of each axis: the min plane when the
+    /// direction component is positive (or +0), the max plane when it is negative (or −0), whose
+    /// inverse is −∞ and for which the max plane is met first.
+    near: [usize; 3],
+}
+
+impl RayBoxes {
+    #[inline]
+    fn new(ray: &Ray) -> Self {
+        let dir = ray.dir.to_array();
+        let near = std::array::from_fn(|axis| 2 * axis + usize::from(dir[axis].is_sign_negative()));
+        let origin = ray.origin.to_array().map(Vec4::splat);
+        Self { origin, inv_dir: dir.map(|d| Vec4::splat(1.0 / d)), near }
+    }
+
+    /// The distances at which the ray enters the four child boxes of `node` (clamped to 0 when
+    /// it starts inside), and a mask of the boxes it overlaps for some t in [0, `t_max`] (bit
+    /// i: child i). Conservative: may report a box the ray just misses, never misses a box the
+    /// ray enters.
+    ///
+    /// A slab distance of 0·∞ = NaN (the ray runs inside a slab plane) constrains nothing: the
+    /// running entry and exit distances are replaced only where the comparison with the new one
+    /// holds, which it never does for NaN (x86 compiles these selects to `maxps` / `minps`).
+    #[inline(always)]
+    fn enter(&self, node: &Node, t_max: f32) -> (Vec4, u32) {
+        let mut entry = Vec4::ZERO;
+        let mut exit = Vec4::INFINITY;
+        for axis in 0..3 {
+            let near = (node.planes[self.near[axis]] - self.origin[axis]) * self.inv_dir[axis];
+            let far = (node.planes[self.near[axis] ^ 1] - self.origin[axis]) * self.inv_dir[axis];
+            entry = larger_unless_nan(near, entry);
+            exit = smaller_unless_nan(far, exit);
+        }
+        let exit = smaller_unless_nan(exit * ROBUST_EXIT_SCALE, Vec4::splat(t_max));
+        (entry, entry.cmple(exit).bitmask())
+    }
+}
+
+/// Lane-wise `candidate > running ? candidate : running`: `running` where `candidate` is NaN.
+/// On x86-64 this is exactly `maxps` (which returns its second operand when either is NaN);
+/// elsewhere a compare and select.
+#[inline(always)]
+fn larger_unless_nan(candidate: Vec4, running: Vec4) -> Vec4 {
+    #[cfg(target_arch = "x86_64")]
+    {
+        // SAFETY: SSE is part of the x86-64 baseline, so the instruction exists on every target
+        // this compiles for; the intrinsic only reads its two register operands.
+        Vec4::from(unsafe { std::arch::x86_64::_mm_max_ps(candidate.into(), running.into()) })
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        Vec4::select(candidate.cmpgt(running), candidate, running)
+    }
+}
+
+/// Lane-wise `candidate < running ? candidate : running`: `running` where `candidate` is NaN
+/// (`minps` on x86-64).
+#[inline(always)]
+fn smaller_unless_nan(candidate: Vec4, running: Vec4) -> Vec4 {
+    #[cfg(target_arch = "x86_64")]
+    {
+        // SAFETY: as in `larger_unless_nan`.
+        Vec4::from(unsafe { std::arch::x86_64::_mm_min_ps(candidate.into(), running.into()) })
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        Vec4::select(candidate.cmplt(running), candidate, running)
+    }
+}
+
+/// Builds the binary tree over `items`, which start at position `start` of the whole list, at
+/// depth `depth`; reorders `items` so that every leaf's primitives are contiguous.
+fn build_binary(items: &mut [BvhPrimitive], start: usize, depth: usize) -> BuildNode {
+    let (bounds, centroids) = bounds_and_centroid_bounds(items);
+    let items_len = items.len();
+    let Some(left_count) = choose_split(items, &bounds, &centroids, depth) else {
+        return BuildNode::Leaf { bounds, start: start as u32, count: items_len as u32 };
+    };
+    let (left, right) = items.split_at_mut(left_count);
+    let right_start = start + left_count;
+    let children = if items_len > PARALLEL_BUILD_MIN {
+        rayon::join(|| build_binary(left, start, depth + 1), || build_binary(right, right_start, depth + 1))
+    } else {
+        (build_binary(left, start, depth + 1), build_binary(right, right_start, depth + 1))
+    };
+    BuildNode::Interior { bounds, children: Box::new([children.0, children.1]) }
+}
+
+/// Appends the 4-wide node for the interior binary node `node` (at 4-wide depth `depth`) and,
+/// after it, its subtree; returns its index. `max_depth` tracks the deepest leaf.
+fn emit(node: &BuildNode, nodes: &mut Vec<Node>, depth: usize, max_depth: &mut usize) -> u32 {
+    let BuildNode::Interior { children, .. } = node else {
+        unreachable!("only interior binary nodes become 4-wide nodes")
+    };
+    let index = nodes.len();
+    nodes.push(Node::EMPTY);
+    // Open the interior child of largest area until there are four children; among equal
+    // areas the one nearest the binary root, so that ties (identical boxes) open whole levels.
+    let mut slots: Vec<(&BuildNode, usize)> = Vec::with_capacity(WIDTH);
+    slots.extend(children.iter().map(|child| (child, 1)));
+    while slots.len() < WIDTH {
+        let mut largest: Option<(usize, f32, usize)> = None;
+        for (slot, &(child, level)) in slots.iter().enumerate() {
+            if let BuildNode::Interior { bounds, .. } = child {
+                let area = bounds.surface_area();
+                let larger = largest.is_none_or(|(_, best_area, best_level)| {
+                    area > best_area || (area == best_area && level < best_level)
+                });
+                if larger {
+                    largest = Some((slot, area, level));
+                }
+            }
+        }
+        let Some((slot, _, level)) = largest else { break };
+        let BuildNode::Interior { children, .. } = slots[slot].0 else { unreachable!() };
+        slots[slot] = (&children[0], level + 1);
+        slots.push((&children[1], level + 1));
+    }
+    for (slot, (child, _)) in slots.into_iter().enumerate() {
+        nodes[index].set_bounds(slot, child.bounds());
+        let (reference, count) = match child {
+            BuildNode::Leaf { start, count, .. } => {
+                *max_depth = (*max_depth).max(depth + 1);
+                (*start, *count)
+            }
+            BuildNode::Interior { .. } => (emit(child, nodes, depth + 1, max_depth), 0),
+        };
+        nodes[index].child[slot] = reference;
+        nodes[index].count[slot] = count;
+    }
+    index as u32
 }
 
 /// The union of the boxes of `items` and the bounds of their centroids, in one pass.
@@ -304,13 +598,13 @@ fn choose_split(items: &mut [BvhPrimitive], bounds: &Aabb, centroids: &Aabb, dep
         return Some(median_split(items, axis));
     };
     let area = bounds.surface_area();
-    if count <= MAX_LEAF_PRIMITIVES && count as f32 * area <= TRAVERSAL_COST * area + best.cost {
+    if count <= MAX_LEAF_PRIMITIVES && blocks(count) * area <= TRAVERSAL_COST * area + best.cost {
         return None;
     }
-    let binning = Binning::new(centroids, best.axis);
+    let binning = Binning::new(centroids);
     let mut left = 0;
     for i in 0..count {
-        if binning.bin(&items[i]) <= best.last_left_bin {
+        if binning.bin(items[i].bounds.centroid()[best.axis], best.axis) <= best.last_left_bin {
             items.swap(left, i);
             left += 1;
         }
@@ -328,28 +622,33 @@ fn median_split(items: &mut [BvhPrimitive], axis: usize) -> usize {
     middle
 }
 
-/// Maps centroids to bins along one axis.
+/// Maps centroids to bins along each axis.
 struct Binning {
-    axis: usize,
-    origin: f32,
-    scale: f32,
+    origin: [f32; 3],
+    /// Bins per unit length; 0 on an axis of zero extent.
+    scale: [f32; 3],
 }
 
 impl Binning {
-    fn new(centroids: &Aabb, axis: usize) -> Self {
-        let extent = centroids.max[axis] - centroids.min[axis];
+    fn new(centroids: &Aabb) -> Self {
+        let extent = centroids.max - centroids.min;
         Self {
-            axis,
-            origin: centroids.min[axis],
-            scale: if extent > 0.0 { BIN_COUNT as f32 / extent } else { 0.0 },
+            origin: centroids.min.to_array(),
+            scale: std::array::from_fn(|axis| {
+                if extent[axis] > 0.0 {
+                    BIN_COUNT as f32 / extent[axis]
+                } else {
+                    0.0
+                }
+            }),
         }
     }
 
-    /// The bin of `item`'s centroid (the float-to-int cast saturates, so out-of-range and NaN
-    /// values land in the first or last bin).
+    /// The bin of the centroid coordinate `centroid` along `axis` (the float-to-int cast
+    /// saturates, so out-of-range and NaN values land in the first or last bin).
     #[inline]
-    fn bin(&self, item: &BvhPrimitive) -> usize {
-        let position = (item.bounds.centroid()[self.axis] - self.origin) * self.scale;
+    fn bin(&self, centroid: f32, axis: usize) -> usize {
+        let position = (centroid - self.origin[axis]) * self.scale[axis];
         (position as usize).min(BIN_COUNT - 1)
     }
 }
@@ -358,33 +657,43 @@ impl Binning {
 struct BinnedSplit {
     axis: usize,
     last_left_bin: usize,
-    /// Σ area × count over both children (scene units²).
+    /// Σ area × blocks over both children (scene units²).
     cost: f32,
+}
+
+/// The intersection cost of `count` primitives, in blocks of [`LEAF_BLOCK`].
+#[inline]
+fn blocks(count: usize) -> f32 {
+    count.div_ceil(LEAF_BLOCK) as f32
 }
 
 /// The cheapest SAH split over all axes and bin boundaries with primitives on both sides.
 /// With finite centroid bounds of positive extent there is always one; `None` otherwise.
 /// (Costs of huge boxes may overflow to ∞; the first such candidate is still a valid split.)
 fn best_binned_split(items: &[BvhPrimitive], centroids: &Aabb) -> Option<BinnedSplit> {
-    let mut best: Option<BinnedSplit> = None;
-    for axis in 0..3 {
-        let binning = Binning::new(centroids, axis);
-        if binning.scale == 0.0 {
-            continue;
-        }
-        let mut bins = [(Aabb::EMPTY, 0usize); BIN_COUNT];
-        for item in items {
-            let bin = &mut bins[binning.bin(item)];
+    let binning = Binning::new(centroids);
+    // One pass over the primitives fills the bins of all three axes.
+    let mut bins = [[(Aabb::EMPTY, 0usize); BIN_COUNT]; 3];
+    for item in items {
+        let centroid = item.bounds.centroid().to_array();
+        for (axis, axis_bins) in bins.iter_mut().enumerate() {
+            let bin = &mut axis_bins[binning.bin(centroid[axis], axis)];
             bin.0 = bin.0.union(item.bounds);
             bin.1 += 1;
         }
-        // right_cost[i]: area × count of bins i+1.. (the second child when splitting after bin i).
+    }
+    let mut best: Option<BinnedSplit> = None;
+    for (axis, bins) in bins.iter().enumerate() {
+        if binning.scale[axis] == 0.0 {
+            continue;
+        }
+        // right_cost[i]: area × blocks of bins i+1.. (the second child when splitting after bin i).
         let mut right_cost = [0.0f32; BIN_COUNT];
         let (mut right_bounds, mut right_count) = (Aabb::EMPTY, 0);
         for i in (1..BIN_COUNT).rev() {
             right_bounds = right_bounds.union(bins[i].0);
             right_count += bins[i].1;
-            right_cost[i - 1] = right_bounds.surface_area() * right_count as f32;
+            right_cost[i - 1] = right_bounds.surface_area() * blocks(right_count);
         }
         let (mut left_bounds, mut left_count) = (Aabb::EMPTY, 0);
         for (i, &(bin_bounds, bin_count)) in bins.iter().enumerate().take(BIN_COUNT - 1) {
@@ -393,7 +702,7 @@ fn best_binned_split(items: &[BvhPrimitive], centroids: &Aabb) -> Option<BinnedS
             if left_count == 0 || left_count == items.len() {
                 continue;
             }
-            let cost = left_bounds.surface_area() * left_count as f32 + right_cost[i];
+            let cost = left_bounds.surface_area() * blocks(left_count) + right_cost[i];
             if best.as_ref().is_none_or(|best| cost < best.cost) {
                 best = Some(BinnedSplit { axis, last_left_bin: i, cost });
             }
@@ -404,6 +713,8 @@ fn best_binned_split(items: &[BvhPrimitive], centroids: &Aabb) -> Option<BinnedS
 
 #[cfg(test)]
 mod tests {
+    use glam::Vec3;
+
     use super::*;
     use crate::geometry::test_util::Rng;
 
@@ -417,31 +728,59 @@ mod tests {
             .collect()
     }
 
+    /// The box of slot `slot` of `node`.
+    fn slot_bounds(node: &Node, slot: usize) -> Aabb {
+        let p = node.planes.map(|row| row.to_array());
+        Aabb {
+            min: Vec3::new(p[0][slot], p[2][slot], p[4][slot]),
+            max: Vec3::new(p[1][slot], p[3][slot], p[5][slot]),
+        }
+    }
+
     /// Checks the invariants the traversal relies on and returns the stats.
     fn check_structure(primitives: &[BvhPrimitive]) -> BvhStats {
-        let bvh = Bvh::build(primitives.to_vec());
+        let (bvh, leaf_ids) = Bvh::build(primitives.to_vec());
         let stats = bvh.stats();
-        // A binary tree with L leaves has 2L − 1 nodes.
-        assert_eq!(stats.nodes, 2 * stats.leaves - 1);
-        assert!(stats.max_depth <= MAX_DEPTH);
-        // Every primitive appears exactly once.
-        let mut ids = bvh.ids.clone();
+        // Every primitive appears exactly once in leaf order.
+        let mut ids = leaf_ids.clone();
         ids.sort_unstable();
         assert!(ids.iter().copied().eq(0..primitives.len() as u32));
+        // Every leaf position is covered by exactly one leaf.
+        let mut covered = vec![0; primitives.len()];
+        let mut referenced = vec![0; bvh.nodes.len()];
         for (index, node) in bvh.nodes.iter().enumerate() {
-            if node.count > 0 {
-                assert!(node.count as usize <= MAX_LEAF_PRIMITIVES);
-                let first = node.offset as usize;
-                for &id in &bvh.ids[first..first + node.count as usize] {
-                    assert!(node.bounds().contains(&primitives[id as usize].bounds));
+            let mut used = 0;
+            for slot in 0..WIDTH {
+                let bounds = slot_bounds(node, slot);
+                let (child, count) = (node.child[slot] as usize, node.count[slot] as usize);
+                if count > 0 {
+                    used += 1;
+                    assert!(count <= MAX_LEAF_PRIMITIVES);
+                    for position in child..child + count {
+                        covered[position] += 1;
+                        assert!(bounds.contains(&primitives[leaf_ids[position] as usize].bounds));
+                    }
+                } else if child != u32::MAX as usize {
+                    used += 1;
+                    // Depth-first order: children come after their parent.
+                    assert!(child > index && child < bvh.nodes.len());
+                    referenced[child] += 1;
+                    for grandchild in 0..WIDTH {
+                        let inner = slot_bounds(&bvh.nodes[child], grandchild);
+                        assert!(inner == Aabb::EMPTY || bounds.contains(&inner));
+                    }
+                } else {
+                    // An unused slot has the empty box, which no ray enters.
+                    assert_eq!(bounds, Aabb::EMPTY);
                 }
-            } else {
-                let second = node.offset as usize;
-                assert!(second > index + 1 && second < bvh.nodes.len());
-                assert!(node.bounds().contains(&bvh.nodes[index + 1].bounds()));
-                assert!(node.bounds().contains(&bvh.nodes[second].bounds()));
             }
+            // Only the root may have a single child (a scene that is one leaf).
+            assert!(used >= 2 || bvh.nodes.len() == 1, "node {index} has {used} children");
         }
+        assert!(covered.iter().all(|&c| c == 1));
+        assert_eq!(referenced[0], 0);
+        assert!(referenced[1..].iter().all(|&r| r == 1));
+        assert!(stats.max_depth <= MAX_DEPTH);
         stats
     }
 
@@ -449,43 +788,75 @@ mod tests {
     fn random_boxes_build_a_valid_compact_tree() {
         let mut rng = Rng::new(1);
         let stats = check_structure(&random_boxes(&mut rng, 10_000));
-        // Leaves of up to 4 primitives: at least 2500 leaves; a 16-bin SAH tree over uniform
-        // boxes should stay within a few levels of the balanced depth log₂(2500) ≈ 11.3.
-        assert!(stats.leaves >= 2_500);
-        assert!(stats.max_depth <= 30, "depth {}", stats.max_depth);
-        // 32-byte nodes and a 4-byte id per primitive. These small boxes are mostly disjoint, so
-        // the SAH splits down to single primitives: at most 2n − 1 nodes, < 68 bytes each.
-        assert_eq!(std::mem::size_of::<Node>(), 32);
-        assert_eq!(stats.bytes, 32 * stats.nodes + 4 * stats.primitives);
-        assert!(stats.bytes_per_primitive() < 68.0, "{} B/primitive", stats.bytes_per_primitive());
+        // Leaves of at most 8; and since up to four primitives cost one block, the SAH hardly
+        // ever splits four or fewer: leaves average close to 4 (3.97 when this was written), so
+        // there are about 2500 of them, which a balanced 4-wide tree holds at depth
+        // ⌈log₄ 2500⌉ = 6.
+        assert!(stats.leaves >= 10_000 / MAX_LEAF_PRIMITIVES);
+        assert!(stats.leaves <= 3_400, "{stats:?}");
+        assert!(stats.max_depth <= 9, "{stats:?}");
+        // 128-byte nodes. Nodes average about three children (the last binary levels above the
+        // leaves often give only two): some 2500/3 nodes, 16 bytes per primitive when this was
+        // written.
+        assert_eq!(std::mem::size_of::<Node>(), 128);
+        assert_eq!(stats.bytes, 128 * stats.nodes);
+        assert!(stats.bytes_per_primitive() < 20.0, "{stats:?}");
     }
 
     #[test]
     fn identical_boxes_split_by_count() {
         // Ten thousand copies of one box: the SAH sees no difference; splitting by count gives
-        // a balanced tree of depth ⌈log₂(10000 / 4)⌉ = 12.
+        // a balanced binary tree of depth ⌈log₂(10000 / 8)⌉ = 11, which the collapse turns into
+        // 4-wide nodes of two binary levels each: leaves at depth ⌈11 / 2⌉ = 6.
         let unit = Aabb { min: Vec3::ZERO, max: Vec3::ONE };
         let primitives: Vec<_> = (0..10_000).map(|id| BvhPrimitive { id, bounds: unit }).collect();
         let stats = check_structure(&primitives);
-        assert_eq!(stats.max_depth, 12);
+        assert_eq!(stats.max_depth, 6);
     }
 
     #[test]
     fn depth_cap_forces_median_splits_then_leaves() {
         let mut rng = Rng::new(6);
-        // Nine primitives need ⌈log₂(9/4)⌉ = 2 more levels of median splits; at depth 62 that
+        // Nine primitives need ⌈log₂(9/8)⌉ = 1 more level of median splits; at depth 63 that
         // reaches MAX_DEPTH, so the split must be the median one: 4 | 5 by centroid.
         let mut nine = random_boxes(&mut rng, 9);
         let (bounds, centroids) = bounds_and_centroid_bounds(&nine);
         let axis = (centroids.max - centroids.min).max_position();
-        assert_eq!(choose_split(&mut nine, &bounds, &centroids, MAX_DEPTH - 2), Some(4));
+        assert_eq!(choose_split(&mut nine, &bounds, &centroids, MAX_DEPTH - 1), Some(4));
         let largest_left = nine[..4].iter().map(|p| p.bounds.centroid()[axis]).fold(f32::MIN, f32::max);
         assert!(nine[4..].iter().all(|p| p.bounds.centroid()[axis] >= largest_left));
-        // Four scattered boxes: the SAH splits them at depth 0; at MAX_DEPTH they make a leaf.
+        // Two clusters of three unit boxes 100 apart: two one-block leaves of tiny boxes are far
+        // cheaper than one two-block leaf of the whole span, so the SAH splits them 3 | 3 at
+        // depth 0; at MAX_DEPTH they make a leaf.
+        let cluster = |x: f32| {
+            (0..3).map(move |i| Aabb {
+                min: Vec3::new(x, i as f32, 0.0),
+                max: Vec3::new(x + 1.0, i as f32 + 1.0, 1.0),
+            })
+        };
+        let mut six: Vec<_> = cluster(0.0)
+            .chain(cluster(100.0))
+            .enumerate()
+            .map(|(id, bounds)| BvhPrimitive { id: id as u32, bounds })
+            .collect();
+        let (bounds, centroids) = bounds_and_centroid_bounds(&six);
+        assert_eq!(choose_split(&mut six, &bounds, &centroids, 0), Some(3));
+        assert_eq!(choose_split(&mut six, &bounds, &centroids, MAX_DEPTH), None);
+        // Four scattered boxes are one block: a leaf even at depth 0.
         let mut four = random_boxes(&mut rng, 4);
         let (bounds, centroids) = bounds_and_centroid_bounds(&four);
-        assert!(choose_split(&mut four, &bounds, &centroids, 0).is_some());
-        assert_eq!(choose_split(&mut four, &bounds, &centroids, MAX_DEPTH), None);
+        assert_eq!(choose_split(&mut four, &bounds, &centroids, 0), None);
+    }
+
+    /// Every id whose leaf `bvh` visits for `ray`, sorted.
+    fn visited((bvh, ids): &(Bvh, Vec<u32>), ray: &Ray) -> Vec<u32> {
+        let mut visited = Vec::new();
+        bvh.closest_hit(ray, f32::INFINITY, |first, count, _| {
+            visited.extend_from_slice(&ids[first as usize..(first + count) as usize]);
+            None
+        });
+        visited.sort_unstable();
+        visited
     }
 
     #[test]
@@ -506,15 +877,9 @@ mod tests {
             })
             .collect();
         check_structure(&primitives);
-        let bvh = Bvh::build(primitives);
+        let built = Bvh::build(primitives);
         let ray = Ray::new(Vec3::new(0.0, 0.5, 0.5), Vec3::X);
-        let mut visited = Vec::new();
-        bvh.closest_hit(&ray, f32::INFINITY, |id, _| {
-            visited.push(id);
-            None
-        });
-        visited.sort_unstable();
-        assert!(visited.iter().copied().eq(0..300));
+        assert!(visited(&built, &ray).into_iter().eq(0..300));
     }
 
     #[test]
@@ -527,17 +892,33 @@ mod tests {
         primitives[20].bounds.min = Vec3::NEG_INFINITY;
         primitives[30].bounds.min.x = f32::NAN;
         primitives[40].bounds = Aabb { min: Vec3::NEG_INFINITY, max: Vec3::INFINITY };
-        let bvh = Bvh::build(primitives.clone());
-        let stats = bvh.stats();
-        assert_eq!((stats.primitives, stats.nodes), (100, 2 * stats.leaves - 1));
+        let built = Bvh::build(primitives.clone());
+        assert_eq!(built.0.stats().primitives, 100);
+        let mut ids = built.1.clone();
+        ids.sort_unstable();
+        assert!(ids.into_iter().eq(0..100));
         let target = primitives[50].bounds.centroid();
         let ray = Ray::new(target + Vec3::new(0.0, 0.0, 500.0), -Vec3::Z);
-        let mut found = false;
-        bvh.closest_hit(&ray, f32::INFINITY, |id, _| {
-            found |= id == 50;
-            None
-        });
-        assert!(found);
+        assert!(visited(&built, &ray).contains(&50));
+    }
+
+    /// The exact (f64) distance at which `ray` enters `bounds`, if it does.
+    fn exact_entry(bounds: &Aabb, ray: &Ray) -> Option<f32> {
+        let (mut enter, mut exit) = (0.0f64, f64::INFINITY);
+        for axis in 0..3 {
+            let (origin, dir) = (f64::from(ray.origin[axis]), f64::from(ray.dir[axis]));
+            let (low, high) = (f64::from(bounds.min[axis]), f64::from(bounds.max[axis]));
+            if dir == 0.0 {
+                if origin < low || origin > high {
+                    return None;
+                }
+                continue;
+            }
+            let (t0, t1) = ((low - origin) / dir, (high - origin) / dir);
+            enter = enter.max(t0.min(t1));
+            exit = exit.min(t0.max(t1));
+        }
+        (enter <= exit).then_some(enter as f32)
     }
 
     #[test]
@@ -553,20 +934,100 @@ mod tests {
                 },
             })
             .collect();
-        let bvh = Bvh::build(primitives.clone());
+        let (bvh, ids) = Bvh::build(primitives.clone());
         let ray = Ray::new(Vec3::new(55.0, 0.5, 0.5), -Vec3::X);
-        let box_ray = BoxRay::new(&ray);
         let mut nearest = None;
-        bvh.closest_hit(&ray, f32::INFINITY, |id, t_max| {
-            let t = primitives[id as usize].bounds.entry_distance(&box_ray, t_max)?;
-            nearest = Some(id);
-            Some(t)
+        let found = bvh.closest_hit(&ray, f32::INFINITY, |first, count, mut t_max| {
+            let mut hit = None;
+            for &id in &ids[first as usize..(first + count) as usize] {
+                if let Some(t) = exact_entry(&primitives[id as usize].bounds, &ray).filter(|&t| t < t_max) {
+                    (nearest, hit, t_max) = (Some(id), Some(t), t);
+                }
+            }
+            hit
         });
+        assert!(found);
         assert_eq!(nearest, Some(5));
-        assert!(bvh.any_hit(&ray, f32::INFINITY, |_, _| true));
+        assert!(bvh.any_hit(&ray, f32::INFINITY, |_, _, _| true));
         // Nothing in the other direction past x = 991.
         let away = Ray::new(Vec3::new(995.0, 0.5, 0.5), Vec3::X);
-        assert!(!bvh.any_hit(&away, f32::INFINITY, |_, _| true));
-        assert_eq!(Bvh::build(Vec::new()).bounds(), None);
+        assert!(!bvh.any_hit(&away, f32::INFINITY, |_, _, _| true));
+        assert!(!bvh.closest_hit(&away, f32::INFINITY, |_, _, _| Some(0.0)));
+        assert_eq!(Bvh::build(Vec::new()).0.bounds(), None);
+    }
+
+    #[test]
+    fn traversal_agrees_with_exact_box_tests() {
+        // Random rays through 2000 random boxes: the leaves visited by `any_hit` with a callback
+        // that never hits are exactly the boxes the ray enters (by an exact f64 slab test),
+        // except boxes that the ray just grazes, which the conservative test may add.
+        let mut rng = Rng::new(12);
+        let primitives = random_boxes(&mut rng, 2_000);
+        let (bvh, ids) = Bvh::build(primitives.clone());
+        for _ in 0..2_000 {
+            let origin = rng.point_in(Vec3::splat(-150.0), Vec3::splat(150.0));
+            let ray = Ray::new(origin, rng.unit_vector());
+            let t_max = rng.uniform(10.0, 300.0);
+            let mut reported = Vec::new();
+            bvh.any_hit(&ray, t_max, |first, count, _| {
+                reported.extend_from_slice(&ids[first as usize..(first + count) as usize]);
+                false
+            });
+            for (id, primitive) in primitives.iter().enumerate() {
+                if exact_entry(&primitive.bounds, &ray).is_some_and(|t| t < t_max * (1.0 - 1e-6)) {
+                    assert!(reported.contains(&(id as u32)), "box {id} missed by {ray:?}");
+                }
+            }
+        }
+    }
+
+    /// The entry distance and hit bit of a single box in slot 0 of a node.
+    fn enter_one(bounds: Aabb, ray: Ray, t_max: f32) -> Option<f32> {
+        let mut node = Node::EMPTY;
+        node.set_bounds(0, &bounds);
+        let (entry, mask) = RayBoxes::new(&ray).enter(&node, t_max);
+        assert_eq!(mask & !1, 0, "unused slots are never entered");
+        (mask & 1 == 1).then_some(entry[0])
+    }
+
+    fn unit_box() -> Aabb {
+        Aabb { min: Vec3::ZERO, max: Vec3::ONE }
+    }
+
+    #[test]
+    fn entry_distance_of_a_hit_and_a_miss() {
+        // From x = −2 along +x through the middle of [0,1]³: enters at t = 2.
+        let along_x = Ray::new(Vec3::new(-2.0, 0.5, 0.5), Vec3::X);
+        assert_eq!(enter_one(unit_box(), along_x, 10.0), Some(2.0));
+        // Same ray with t_max = 1.5 stops before the box.
+        assert_eq!(enter_one(unit_box(), along_x, 1.5), None);
+        // Passing above the box misses; a box behind the origin misses.
+        assert_eq!(enter_one(unit_box(), Ray::new(Vec3::new(-2.0, 1.5, 0.5), Vec3::X), 10.0), None);
+        assert_eq!(enter_one(unit_box(), Ray::new(Vec3::new(2.0, 0.5, 0.5), Vec3::X), 10.0), None);
+        // The same along −x from the other side, and from inside (entry clamped to 0).
+        assert_eq!(enter_one(unit_box(), Ray::new(Vec3::new(3.0, 0.5, 0.5), -Vec3::X), 10.0), Some(2.0));
+        assert_eq!(enter_one(unit_box(), Ray::new(Vec3::splat(0.5), Vec3::Y), 10.0), Some(0.0));
+    }
+
+    #[test]
+    fn ray_in_a_slab_plane_counts_as_inside() {
+        // Origin exactly on the face y = 0, travelling along +x (dir.y = 0): (0 − 0)·∞ is NaN;
+        // the ray grazes the face, which the conservative test must report (entry at t = 1).
+        let grazing = Ray::new(Vec3::new(-1.0, 0.0, 0.5), Vec3::X);
+        assert_eq!(enter_one(unit_box(), grazing, 10.0), Some(1.0));
+        // Same with a negative zero component and the face y = 1.
+        let negative_zero = Ray::new(Vec3::new(-1.0, 1.0, 0.5), Vec3::new(1.0, -0.0, 0.0));
+        assert_eq!(enter_one(unit_box(), negative_zero, 10.0), Some(1.0));
+        // A flat box (a quad's bounds, zero thickness in y) and a ray inside its plane, with +0
+        // and −0 as the direction's y component.
+        let flat = Aabb { min: Vec3::ZERO, max: Vec3::new(1.0, 0.0, 1.0) };
+        assert_eq!(enter_one(flat, grazing, 10.0), Some(1.0));
+        let flat_negative_zero = Ray::new(Vec3::new(-1.0, 0.0, 0.5), Vec3::new(1.0, -0.0, 0.0));
+        assert_eq!(enter_one(flat, flat_negative_zero, 10.0), Some(1.0));
+        // Parallel to the slab but outside it, on either side and with either zero: a miss.
+        for (y, dir_y) in [(2.0, 0.0), (2.0, -0.0), (-1.0, 0.0), (-1.0, -0.0)] {
+            let outside = Ray::new(Vec3::new(-1.0, y, 0.5), Vec3::new(1.0, dir_y, 0.0));
+            assert_eq!(enter_one(unit_box(), outside, 10.0), None, "y = {y}, dir.y = {dir_y}");
+        }
     }
 }

@@ -11,7 +11,7 @@ use std::path::Path;
 use glam::{Affine3A, Mat3, Vec3};
 
 use super::aabb::Aabb;
-use super::triangle::{intersect_triangle, ShearedRay};
+use super::triangle::{intersect_triangle, ShearedRay, TriangleHit};
 use super::Hit;
 
 /// Why a mesh could not be loaded.
@@ -232,7 +232,21 @@ impl Mesh {
     pub fn intersect_triangle(&self, tri: u32, ray: &ShearedRay, t_max: f32, prim: u32) -> Option<Hit> {
         let vertices = self.triangle(tri);
         let hit = intersect_triangle(ray, &vertices, t_max)?;
-        let [v0, v1, v2] = vertices;
+        self.hit_record(tri, &vertices, &hit, prim)
+    }
+
+    /// The hit record of `hit` on triangle `tri`, whose vertices are `vertices`; `None` when the
+    /// triangle has no normal (its edges' cross product vanishes in f32), which
+    /// [`Self::intersect_triangle`] therefore never reports. Panics as [`Self::triangle`].
+    #[inline]
+    pub(crate) fn hit_record(
+        &self,
+        tri: u32,
+        vertices: &[Vec3; 3],
+        hit: &TriangleHit,
+        prim: u32,
+    ) -> Option<Hit> {
+        let [v0, v1, v2] = *vertices;
         let normal = (v1 - v0).cross(v2 - v0).try_normalize()?;
         let shading_normal = self
             .normals
@@ -244,7 +258,7 @@ impl Mesh {
                     .try_normalize()
             })
             .map_or(normal, |n| if n.dot(normal) < 0.0 { -n } else { n });
-        Some(Hit { t: hit.t, point: hit.point(&vertices), normal, shading_normal, prim })
+        Some(Hit { t: hit.t, point: hit.point(vertices), normal, shading_normal, prim })
     }
 }
 

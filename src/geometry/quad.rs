@@ -8,7 +8,7 @@
 use glam::Vec3;
 
 use super::aabb::Aabb;
-use super::triangle::{intersect_triangle, ShearedRay};
+use super::triangle::{intersect_triangle, ShearedRay, TriangleHit};
 use super::Hit;
 
 /// The parallelogram `corner + u·edge1 + v·edge2`, u, v in [0, 1]. Its outside (normal) is along
@@ -53,19 +53,51 @@ impl Quad {
     /// are never hit.
     #[inline]
     pub fn intersect(&self, ray: &ShearedRay, t_max: f32, prim: u32) -> Option<Hit> {
-        let [p00, p10, p11, p01] = self.corners();
-        let lower = intersect_triangle(ray, &[p00, p10, p11], t_max).map(|hit| {
-            // Weights of (0,0), (1,0), (1,1): u = b1 + b2, v = b2.
-            let [_, b1, b2] = hit.barycentric;
-            (hit.t, b1 + b2, b2)
+        let (t, u, v) = self.intersect_uv(ray, t_max)?;
+        self.hit_record(t, u, v, prim)
+    }
+
+    /// The distance and the parameters (u, v) of the intersection with t in (0, `t_max`), before
+    /// the hit record is built: what a nearest-hit search needs per candidate.
+    #[inline]
+    pub(crate) fn intersect_uv(&self, ray: &ShearedRay, t_max: f32) -> Option<(f32, f32, f32)> {
+        let [lower_half, upper_half] = self.halves();
+        let lower = intersect_triangle(ray, &lower_half, t_max).map(|hit| {
+            let (u, v) = Self::half_uv(0, &hit);
+            (hit.t, u, v)
         });
         let upper_t_max = lower.map_or(t_max, |(t, _, _)| t);
-        let upper = intersect_triangle(ray, &[p00, p11, p01], upper_t_max).map(|hit| {
-            // Weights of (0,0), (1,1), (0,1): u = b1, v = b1 + b2.
-            let [_, b1, b2] = hit.barycentric;
-            (hit.t, b1, b1 + b2)
+        let upper = intersect_triangle(ray, &upper_half, upper_t_max).map(|hit| {
+            let (u, v) = Self::half_uv(1, &hit);
+            (hit.t, u, v)
         });
-        let (t, u, v) = upper.or(lower)?;
+        upper.or(lower)
+    }
+
+    /// The two triangles the quad is tested as: (0,0), (1,0), (1,1) and (0,0), (1,1), (0,1).
+    #[inline]
+    pub(crate) fn halves(&self) -> [[Vec3; 3]; 2] {
+        let [p00, p10, p11, p01] = self.corners();
+        [[p00, p10, p11], [p00, p11, p01]]
+    }
+
+    /// The parameters (u, v) of a hit on half `half` (0: lower, 1: upper) of [`Self::halves`].
+    #[inline]
+    pub(crate) fn half_uv(half: usize, hit: &TriangleHit) -> (f32, f32) {
+        let [_, b1, b2] = hit.barycentric;
+        if half == 0 {
+            // Weights of (0,0), (1,0), (1,1): u = b1 + b2, v = b2.
+            (b1 + b2, b2)
+        } else {
+            // Weights of (0,0), (1,1), (0,1): u = b1, v = b1 + b2.
+            (b1, b1 + b2)
+        }
+    }
+
+    /// The hit record at distance `t` and parameters (`u`, `v`); `None` for a degenerate quad
+    /// (no normal), which [`Self::intersect`] therefore never reports.
+    #[inline]
+    pub(crate) fn hit_record(&self, t: f32, u: f32, v: f32, prim: u32) -> Option<Hit> {
         let normal = self.edge1.cross(self.edge2).try_normalize()?;
         Some(Hit { t, point: self.point_at(u, v), normal, shading_normal: normal, prim })
     }

@@ -23,16 +23,18 @@ pub struct ShearedRay {
     pub ray: Ray,
     /// Indices of the axes that become x, y and z (z: the largest |dir| component).
     axes: [usize; 3],
+    /// The origin's coordinates along those axes.
+    origin: [f32; 3],
     /// Shear (−dir_x/dir_z, −dir_y/dir_z in the permuted axes) and the z scale 1/dir_z.
-    shear: Vec3,
+    shear: [f32; 3],
 }
 
 impl ShearedRay {
     /// Precomputes the permutation and shear for `ray`.
     #[inline]
     pub fn new(ray: Ray) -> Self {
-        let dir = ray.dir;
-        let z = dir.abs().max_position();
+        let dir = ray.dir.to_array();
+        let z = ray.dir.abs().max_position();
         let mut x = (z + 1) % 3;
         let mut y = (x + 1) % 3;
         // Swapping x and y when the ray runs along −z keeps the winding, hence the sign of the
@@ -40,8 +42,18 @@ impl ShearedRay {
         if dir[z] < 0.0 {
             std::mem::swap(&mut x, &mut y);
         }
-        let shear = Vec3::new(-dir[x] / dir[z], -dir[y] / dir[z], 1.0 / dir[z]);
-        Self { ray, axes: [x, y, z], shear }
+        let shear = [-dir[x] / dir[z], -dir[y] / dir[z], 1.0 / dir[z]];
+        let origin = ray.origin.to_array();
+        Self { ray, axes: [x, y, z], origin: [origin[x], origin[y], origin[z]], shear }
+    }
+}
+
+impl ShearedRay {
+    /// The axis permutation, the permuted origin and the shear, for the 4-wide filter of
+    /// [`super::packet`], which must round exactly as [`intersect_triangle`].
+    #[inline]
+    pub(crate) fn parts(&self) -> ([usize; 3], [f32; 3], [f32; 3]) {
+        (self.axes, self.origin, self.shear)
     }
 }
 
@@ -70,18 +82,21 @@ impl TriangleHit {
 #[inline]
 pub fn intersect_triangle(ray: &ShearedRay, vertices: &[Vec3; 3], t_max: f32) -> Option<TriangleHit> {
     let [kx, ky, kz] = ray.axes;
-    let shear = ray.shear;
+    let [origin_x, origin_y, origin_z] = ray.origin;
+    let [shear_x, shear_y, shear_z] = ray.shear;
     // Vertices relative to the origin, permuted so that the ray runs along z, then sheared so
-    // that it is the z axis: (x, y) are the 2D positions the ray sees. (Written out per vertex:
-    // `[T; 3]::map` does not always inline here.)
-    let relative = |v: Vec3| {
-        let p = v - ray.ray.origin;
-        let z = p[kz];
-        ((p[kx] + shear.x * z, p[ky] + shear.y * z), z)
+    // that it is the z axis: (x, y) are the 2D positions the ray sees. The coordinates are read
+    // by index from the vertex arrays (glam's `Vec3` indexing is a branchy `match`, which
+    // showed in profiles); the rounding is that of `(v − origin)[k]`, one subtraction each.
+    // (Written out per vertex: `[T; 3]::map` does not always inline here.)
+    let relative = |v: &Vec3| {
+        let v: &[f32; 3] = v.as_ref();
+        let z = v[kz] - origin_z;
+        (((v[kx] - origin_x) + shear_x * z, (v[ky] - origin_y) + shear_y * z), z)
     };
-    let (a, a_z) = relative(vertices[0]);
-    let (b, b_z) = relative(vertices[1]);
-    let (c, c_z) = relative(vertices[2]);
+    let (a, a_z) = relative(&vertices[0]);
+    let (b, b_z) = relative(&vertices[1]);
+    let (c, c_z) = relative(&vertices[2]);
     let mut edges = [edge_function(c, b), edge_function(a, c), edge_function(b, a)];
     if edges[0] == 0.0 || edges[1] == 0.0 || edges[2] == 0.0 {
         // An exact zero in f32 may hide the sign; f64 holds the products exactly and rounds
@@ -98,7 +113,7 @@ pub fn intersect_triangle(ray: &ShearedRay, vertices: &[Vec3; 3], t_max: f32) ->
     if det == 0.0 {
         return None;
     }
-    let z = [shear.z * a_z, shear.z * b_z, shear.z * c_z];
+    let z = [shear_z * a_z, shear_z * b_z, shear_z * c_z];
     let t_scaled = e0 * z[0] + e1 * z[1] + e2 * z[2];
     // t = t_scaled / det must lie in (0, t_max); compare before dividing.
     let in_range = if det > 0.0 {

@@ -1,0 +1,408 @@
+//! [`Packet`]: up to four finite shapes of a BVH leaf, stored by coordinate ("structure of
+//! arrays") so that a ray is tested against four triangles with 4-wide vector arithmetic.
+//!
+//! [`PlanePacket`]s do the same for the infinite planes, which are not in the BVH.
+//!
+//! A triangle packet holds triangles of meshes and the two halves of quads (a quad is tested
+//! as its two triangles, lower half first, exactly as [`super::Quad`] does); a sphere packet
+//! holds spheres. Lanes that hold nothing, and triangles or quads that can never be hit
+//! because they have no normal, have NaN coordinates, which fail every comparison below.
+//!
+//! The 4-wide test of a triangle packet is a *filter*: it evaluates, lane by lane, the same f32
+//! operations in the same order as [`intersect_triangle`] (translation, shear, edge functions,
+//! determinant, scaled distance and its range check), so it rejects exactly the triangles the
+//! scalar test rejects at those steps; lanes it cannot decide (an edge function that rounds to
+//! exactly 0, which the scalar test recomputes in f64) and lanes that pass go through
+//! [`intersect_triangle`] itself, which then decides with its error bound. Hits are therefore
+//! bit-identical to the scalar routine's, and watertightness and the conservative distance
+//! bound are kept.
+
+use glam::{BVec4A, Vec3, Vec4};
+
+use super::rounding::gamma;
+use super::triangle::{intersect_triangle, ShearedRay, TriangleHit};
+use super::{Plane, Quad, Ray, Sphere};
+
+/// Shapes per packet.
+pub(crate) const LANES: usize = 4;
+
+/// What a lane of a [`Packet`] holds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(u8)]
+pub(crate) enum Lane {
+    /// Nothing (NaN coordinates).
+    Empty,
+    /// A mesh triangle.
+    Triangle,
+    /// The triangle (corner, corner + e1, corner + e1 + e2) of a quad.
+    QuadLower,
+    /// The triangle (corner, corner + e1 + e2, corner + e2) of a quad.
+    QuadUpper,
+    /// A triangle or quad half without a normal: never hit (NaN coordinates).
+    NoNormal,
+    /// A sphere.
+    Sphere,
+}
+
+/// Up to four triangles (or quad halves), or up to four spheres: 176 bytes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Packet {
+    /// Triangle packets: rows 0–2 hold x, y, z of the first vertex, 3–5 of the second, 6–8 of
+    /// the third; sphere packets: rows 0–2 the centre, row 3 the radius. One lane per shape.
+    rows: [Vec4; 9],
+    /// The index of each lane's shape in the list given to [`super::Geometry::build`].
+    ids: [u32; LANES],
+    lanes: [Lane; LANES],
+    spheres: bool,
+}
+
+impl Packet {
+    const EMPTY: Packet =
+        Packet { rows: [Vec4::NAN; 9], ids: [u32::MAX; LANES], lanes: [Lane::Empty; LANES], spheres: false };
+
+    /// True for a packet of spheres.
+    #[inline]
+    pub(crate) fn holds_spheres(&self) -> bool {
+        self.spheres
+    }
+
+    /// What lane `lane` holds.
+    #[inline]
+    pub(crate) fn lane(&self, lane: usize) -> Lane {
+        self.lanes[lane]
+    }
+
+    /// The shape index of lane `lane`.
+    #[inline]
+    pub(crate) fn id(&self, lane: usize) -> u32 {
+        self.ids[lane]
+    }
+
+    /// Coordinate `row` of lane `lane`.
+    #[inline]
+    fn at(&self, row: usize, lane: usize) -> f32 {
+        self.rows[row].as_ref()[lane]
+    }
+
+    /// The vertices of the triangle in lane `lane` of a triangle packet.
+    #[inline]
+    pub(crate) fn vertices(&self, lane: usize) -> [Vec3; 3] {
+        std::array::from_fn(|v| {
+            Vec3::new(self.at(3 * v, lane), self.at(3 * v + 1, lane), self.at(3 * v + 2, lane))
+        })
+    }
+
+    /// The sphere in lane `lane` of a sphere packet.
+    #[inline]
+    pub(crate) fn sphere(&self, lane: usize) -> Sphere {
+        let center = Vec3::new(self.at(0, lane), self.at(1, lane), self.at(2, lane));
+        Sphere { center, radius: self.at(3, lane) }
+    }
+
+    /// A mask of the lanes (bit i: lane i) of a triangle packet that [`intersect_triangle`] may
+    /// hit with t in (0, `t_max`); every other lane it surely misses (see the module notes).
+    /// Each line repeats, four lanes at a time, the operation of [`intersect_triangle`] it is
+    /// named after, with the same operands in the same order.
+    #[inline(always)]
+    pub(crate) fn candidates(&self, ray: &ShearedRay, t_max: f32) -> u32 {
+        let ([kx, ky, kz], origin, shear) = ray.parts();
+        // Always true (the axes are a permutation of 0, 1, 2); stated so that the row indices
+        // below need no bounds checks.
+        assert!(kx < 3 && ky < 3 && kz < 3);
+        let [origin_x, origin_y, origin_z] = origin.map(Vec4::splat);
+        let [shear_x, shear_y, shear_z] = shear.map(Vec4::splat);
+        let rows = &self.rows;
+        // `relative`: the sheared 2D position (x, y) and the translated z of each vertex.
+        let relative = |vertex: usize| {
+            let z = rows[3 * vertex + kz] - origin_z;
+            (
+                (rows[3 * vertex + kx] - origin_x) + shear_x * z,
+                (rows[3 * vertex + ky] - origin_y) + shear_y * z,
+                z,
+            )
+        };
+        let (ax, ay, a_z) = relative(0);
+        let (bx, by, b_z) = relative(1);
+        let (cx, cy, c_z) = relative(2);
+        // edge_function(c, b), edge_function(a, c), edge_function(b, a).
+        let e0 = cx * by - cy * bx;
+        let e1 = ax * cy - ay * cx;
+        let e2 = bx * ay - by * ax;
+        let zero = Vec4::ZERO;
+        let any_zero = e0.cmpeq(zero) | e1.cmpeq(zero) | e2.cmpeq(zero);
+        let any_negative = e0.cmplt(zero) | e1.cmplt(zero) | e2.cmplt(zero);
+        let any_positive = e0.cmpgt(zero) | e1.cmpgt(zero) | e2.cmpgt(zero);
+        let det = e0 + e1 + e2;
+        let t_scaled = e0 * (shear_z * a_z) + e1 * (shear_z * b_z) + e2 * (shear_z * c_z);
+        let limit = Vec4::splat(t_max) * det;
+        let positive = det.cmpgt(zero);
+        let in_range_positive = positive & t_scaled.cmpgt(zero) & t_scaled.cmplt(limit);
+        let in_range_negative = !positive & t_scaled.cmplt(zero) & t_scaled.cmpgt(limit);
+        let in_range = in_range_positive | in_range_negative;
+        let decided = !(any_negative & any_positive) & det.cmpne(zero) & in_range;
+        let candidates: BVec4A = any_zero | decided;
+        candidates.bitmask()
+    }
+
+    /// The exact test of a candidate lane: [`intersect_triangle`] on its vertices.
+    #[inline]
+    pub(crate) fn intersect_lane(&self, lane: usize, ray: &ShearedRay, t_max: f32) -> Option<TriangleHit> {
+        intersect_triangle(ray, &self.vertices(lane), t_max)
+    }
+}
+
+/// Up to four infinite planes, tested together: 112 bytes.
+///
+/// [`Self::nearest`] evaluates, four lanes at a time, exactly the f32 operations of
+/// [`Plane::intersect`] that decide whether and where it hits (numerator, denominator, their
+/// error bounds, the distance), so it finds the plane the scalar test would; the hit record is
+/// then built by [`Plane::intersect`] itself. Unused lanes are NaN and never hit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct PlanePacket {
+    /// x, y, z of a point of each plane.
+    point: [Vec4; 3],
+    /// x, y, z of each plane's unit normal.
+    normal: [Vec4; 3],
+    /// The index of each lane's plane in the list given to [`super::Geometry::build`].
+    ids: [u32; LANES],
+}
+
+impl PlanePacket {
+    /// Packs `planes` (id, plane) four at a time.
+    pub(crate) fn pack(planes: &[(u32, Plane)]) -> Vec<PlanePacket> {
+        planes
+            .chunks(LANES)
+            .map(|chunk| {
+                let mut packet =
+                    PlanePacket { point: [Vec4::NAN; 3], normal: [Vec4::NAN; 3], ids: [u32::MAX; LANES] };
+                for (lane, (id, plane)) in chunk.iter().enumerate() {
+                    packet.ids[lane] = *id;
+                    for axis in 0..3 {
+                        packet.point[axis][lane] = plane.point[axis];
+                        packet.normal[axis][lane] = plane.normal[axis];
+                    }
+                }
+                packet
+            })
+            .collect()
+    }
+
+    /// The plane in lane `lane`, and its index.
+    #[inline]
+    pub(crate) fn plane(&self, lane: usize) -> (u32, Plane) {
+        let at =
+            |row: &[Vec4; 3]| Vec3::new(row[0].as_ref()[lane], row[1].as_ref()[lane], row[2].as_ref()[lane]);
+        (self.ids[lane], Plane { point: at(&self.point), normal: at(&self.normal) })
+    }
+
+    /// A mask of the lanes that [`Plane::intersect`] hits with t in (0, `t_max`), and their
+    /// distances. Each line repeats, four lanes at a time, the operation it is named after.
+    #[inline(always)]
+    fn hits(&self, ray: &Ray, t_max: f32) -> (BVec4A, Vec4) {
+        let [origin_x, origin_y, origin_z] = ray.origin.to_array().map(Vec4::splat);
+        let [dir_x, dir_y, dir_z] = ray.dir.to_array().map(Vec4::splat);
+        let [normal_x, normal_y, normal_z] = self.normal;
+        // to_plane = point − origin.
+        let (to_x, to_y, to_z) =
+            (self.point[0] - origin_x, self.point[1] - origin_y, self.point[2] - origin_z);
+        // Vec3::dot: (x·x' + y·y') + z·z'.
+        let numerator = to_x * normal_x + to_y * normal_y + to_z * normal_z;
+        let denominator = dir_x * normal_x + dir_y * normal_y + dir_z * normal_z;
+        let (abs_x, abs_y, abs_z) = (normal_x.abs(), normal_y.abs(), normal_z.abs());
+        let error_numerator =
+            Vec4::splat(gamma(4)) * (to_x.abs() * abs_x + to_y.abs() * abs_y + to_z.abs() * abs_z);
+        let error_denominator =
+            Vec4::splat(gamma(3)) * (dir_x.abs() * abs_x + dir_y.abs() * abs_y + dir_z.abs() * abs_z);
+        let t = numerator / denominator;
+        let hit = numerator.abs().cmpgt(error_numerator)
+            & denominator.abs().cmpgt(error_denominator)
+            & t.cmpgt(Vec4::ZERO)
+            & t.cmplt(Vec4::splat(t_max));
+        (hit, t)
+    }
+
+    /// The lane of the nearest plane hit with t in (0, `t_max`), the first one among equal
+    /// distances (as a scan with a shrinking `t_max` finds it), if any.
+    #[inline]
+    pub(crate) fn nearest(&self, ray: &Ray, t_max: f32) -> Option<usize> {
+        let (hit, t) = self.hits(ray, t_max);
+        if !hit.any() {
+            return None;
+        }
+        let t = Vec4::select(hit, t, Vec4::INFINITY);
+        let nearest = t.min_element();
+        Some(t.cmpeq(Vec4::splat(nearest)).bitmask().trailing_zeros() as usize)
+    }
+
+    /// True when a plane of the packet is hit with t in (0, `t_max`).
+    #[inline]
+    pub(crate) fn any(&self, ray: &Ray, t_max: f32) -> bool {
+        self.hits(ray, t_max).0.any()
+    }
+}
+
+/// Packs the shapes `(id, shape)` of one leaf, in order: triangles and quads (two lanes each)
+/// into triangle packets, spheres into sphere packets. `triangle_of(id)` gives the vertices of a
+/// mesh triangle. Appends to `packets`.
+pub(crate) fn pack_leaf<'a>(
+    shapes: impl Iterator<Item = (u32, &'a super::Shape)>,
+    triangle_of: impl Fn(u32) -> [Vec3; 3],
+    packets: &mut Vec<Packet>,
+) {
+    use super::Shape;
+    let mut triangles = Vec::new();
+    let mut spheres = Vec::new();
+    for (id, shape) in shapes {
+        match shape {
+            Shape::Triangle { .. } => triangles.push((id, Lane::Triangle, triangle_of(id))),
+            Shape::Quad(quad) => {
+                let [lower, upper] = quad.halves();
+                // Both halves share the quad's normal, edge1 × edge2 (Quad::hit_record).
+                let hittable = quad.edge1.cross(quad.edge2).try_normalize().is_some();
+                triangles.push((id, if hittable { Lane::QuadLower } else { Lane::NoNormal }, lower));
+                triangles.push((id, if hittable { Lane::QuadUpper } else { Lane::NoNormal }, upper));
+            }
+            Shape::Sphere(sphere) => spheres.push((id, *sphere)),
+            Shape::Plane(_) => unreachable!("planes are not in the BVH"),
+        }
+    }
+    for chunk in triangles.chunks(LANES) {
+        let mut packet = Packet::EMPTY;
+        for (lane, &(id, kind, vertices)) in chunk.iter().enumerate() {
+            let [v0, v1, v2] = vertices;
+            let kind = if kind == Lane::Triangle && (v1 - v0).cross(v2 - v0).try_normalize().is_none() {
+                Lane::NoNormal
+            } else {
+                kind
+            };
+            (packet.ids[lane], packet.lanes[lane]) = (id, kind);
+            if kind != Lane::NoNormal {
+                for (v, vertex) in vertices.iter().enumerate() {
+                    for axis in 0..3 {
+                        packet.rows[3 * v + axis][lane] = vertex[axis];
+                    }
+                }
+            }
+        }
+        packets.push(packet);
+    }
+    for chunk in spheres.chunks(LANES) {
+        let mut packet = Packet { spheres: true, ..Packet::EMPTY };
+        for (lane, &(id, sphere)) in chunk.iter().enumerate() {
+            (packet.ids[lane], packet.lanes[lane]) = (id, Lane::Sphere);
+            for axis in 0..3 {
+                packet.rows[axis][lane] = sphere.center[axis];
+            }
+            packet.rows[3][lane] = sphere.radius;
+        }
+        packets.push(packet);
+    }
+}
+
+/// The quad parameters (u, v) of a hit on the half in lane kind `lane` (see [`Quad::halves`]).
+#[inline]
+pub(crate) fn quad_uv(lane: Lane, hit: &TriangleHit) -> (f32, f32) {
+    Quad::half_uv(usize::from(lane == Lane::QuadUpper), hit)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::test_util::Rng;
+    use crate::geometry::{Mesh, Ray, Shape};
+
+    /// Packs `triangles` (as mesh triangles) into packets.
+    fn packets_of(triangles: &[[Vec3; 3]]) -> Vec<Packet> {
+        let mesh = Mesh {
+            positions: triangles.iter().flatten().copied().collect(),
+            normals: None,
+            triangles: (0..triangles.len() as u32).map(|t| [3 * t, 3 * t + 1, 3 * t + 2]).collect(),
+        };
+        let shapes: Vec<Shape> =
+            (0..triangles.len() as u32).map(|tri| Shape::Triangle { mesh: 0, tri }).collect();
+        let mut packets = Vec::new();
+        pack_leaf(
+            shapes.iter().enumerate().map(|(id, s)| (id as u32, s)),
+            |id| mesh.triangle(id),
+            &mut packets,
+        );
+        packets
+    }
+
+    #[test]
+    fn filter_keeps_every_triangle_the_scalar_test_hits() {
+        // Random triangles (some degenerate: collinear or repeated vertices), rays aimed at
+        // their vertices, edges and interiors (where edge functions round to 0 or nearly), with
+        // and without a t_max: every lane that `intersect_triangle` hits is a candidate, and the
+        // candidates' exact tests give the same hits.
+        let mut rng = Rng::new(31);
+        let mut hits = 0;
+        for _ in 0..2_000 {
+            let triangles: Vec<[Vec3; 3]> = (0..7)
+                .map(|i| {
+                    let centre = rng.point_in(Vec3::splat(-10.0), Vec3::splat(10.0));
+                    let size = rng.log_uniform(0.01, 10.0);
+                    let [a, b] = [centre + size * rng.unit_vector(), centre + size * rng.unit_vector()];
+                    let c = match i {
+                        5 => a + 0.5 * (b - a), // collinear
+                        6 => a,                 // repeated vertex
+                        _ => centre + size * rng.unit_vector(),
+                    };
+                    [a, b, c]
+                })
+                .collect();
+            let packets = packets_of(&triangles);
+            assert_eq!(packets.len(), 2);
+            for _ in 0..20 {
+                let [a, b, c] = triangles[rng.uniform(0.0, 7.0) as usize];
+                let target = match rng.uniform(0.0, 3.0) as u32 {
+                    0 => a,
+                    1 => a + rng.uniform(0.0, 1.0) * (b - a),
+                    _ => {
+                        let (u, v) = (rng.uniform(0.0, 1.0), rng.uniform(0.0, 1.0));
+                        if u + v < 1.0 {
+                            a + u * (b - a) + v * (c - a)
+                        } else {
+                            b + (1.0 - u) * (a - b) + (1.0 - v) * (c - a)
+                        }
+                    }
+                };
+                let from = target + rng.log_uniform(0.1, 100.0) * rng.unit_vector();
+                let ray = ShearedRay::new(Ray::new(from, (target - from).normalize()));
+                let t_max = if rng.uniform(0.0, 1.0) < 0.5 { f32::INFINITY } else { rng.uniform(0.1, 50.0) };
+                for (index, packet) in packets.iter().enumerate() {
+                    let candidates = packet.candidates(&ray, t_max);
+                    for lane in 0..LANES {
+                        let Some(&vertices) = triangles.get(index * LANES + lane) else {
+                            assert_eq!(candidates & (1 << lane), 0, "an empty lane is never a candidate");
+                            continue;
+                        };
+                        let expected = intersect_triangle(&ray, &vertices, t_max);
+                        if expected.is_some() {
+                            hits += 1;
+                            assert_ne!(
+                                candidates & (1 << lane),
+                                0,
+                                "lane {lane} of {vertices:?} filtered out"
+                            );
+                            assert_eq!(packet.intersect_lane(lane, &ray, t_max), expected);
+                        }
+                    }
+                }
+            }
+        }
+        assert!(hits > 10_000, "only {hits} hits");
+    }
+
+    #[test]
+    fn triangles_without_a_normal_are_never_candidates() {
+        // Three collinear vertices: the scalar test never hits them (zero determinant) and the
+        // hit record could not be built; the packet marks the lane and fills it with NaN.
+        let flat = [Vec3::ZERO, Vec3::X, 2.0 * Vec3::X];
+        let packets = packets_of(&[flat]);
+        assert_eq!(packets[0].lane(0), Lane::NoNormal);
+        assert_eq!(packets[0].lane(1), Lane::Empty);
+        let ray = ShearedRay::new(Ray::new(Vec3::new(0.5, 0.0, 1.0), -Vec3::Z));
+        assert_eq!(packets[0].candidates(&ray, f32::INFINITY), 0);
+    }
+}
