@@ -100,7 +100,7 @@ emit = "edge1_cross_edge2"
 
 fn render_benchmark(c: &mut Criterion) {
     let scene = prisma::scene::parse(SCENE, Path::new("bench_scene.toml")).expect("the bench scene is valid");
-    let job = Job { settings: scene.settings.clone(), threads: 1, monochromatic_nm: None, progress: false };
+    let job = Job { threads: 1, ..Job::new(scene.settings.clone()) };
     let (_, stats) = render(&scene, &job).expect("render");
     eprintln!(
         "small render: {} camera samples, {} rays ({:.2} rays per camera sample)",
