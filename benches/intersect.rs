@@ -29,29 +29,8 @@ fn full_size() -> bool {
     std::env::args().any(|arg| arg == "--bench") || std::env::var_os("PRISMA_BENCH_FULL").is_some()
 }
 
-/// A sphere of radius 1 with a 10 % bump, tessellated into `2·rings·segments` triangles (the pole
-/// rings are degenerate slivers, as in any UV sphere).
 fn displaced_sphere(rings: u32, segments: u32) -> Mesh {
-    let mut mesh = Mesh::default();
-    for ring in 0..=rings {
-        let theta = std::f32::consts::PI * ring as f32 / rings as f32;
-        for segment in 0..segments {
-            let phi = std::f32::consts::TAU * segment as f32 / segments as f32;
-            let bump = 1.0 + 0.1 * (7.0 * theta).sin() * (5.0 * phi).cos();
-            mesh.positions
-                .push(bump * Vec3::new(theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin()));
-        }
-    }
-    for ring in 0..rings {
-        for segment in 0..segments {
-            let next = (segment + 1) % segments;
-            let [a, b] = [ring * segments + segment, ring * segments + next];
-            let [c, d] = [a + segments, b + segments];
-            mesh.triangles.push([a, c, b]);
-            mesh.triangles.push([b, c, d]);
-        }
-    }
-    mesh
+    Mesh::displaced_sphere(rings, segments)
 }
 
 /// Every triangle of `mesh` as a shape.

@@ -36,6 +36,32 @@ pub struct Mesh {
 }
 
 impl Mesh {
+    /// A procedural test and benchmark mesh: a sphere of radius 1 with a 10 % bump
+    /// (1 + 0.1·sin 7θ·cos 5φ), tessellated into `2·rings·segments` triangles; the pole rings are
+    /// degenerate slivers, as in any UV sphere, which also exercises degenerate input.
+    pub fn displaced_sphere(rings: u32, segments: u32) -> Mesh {
+        let mut mesh = Mesh::default();
+        for ring in 0..=rings {
+            let theta = std::f32::consts::PI * ring as f32 / rings as f32;
+            for segment in 0..segments {
+                let phi = std::f32::consts::TAU * segment as f32 / segments as f32;
+                let bump = 1.0 + 0.1 * (7.0 * theta).sin() * (5.0 * phi).cos();
+                mesh.positions
+                    .push(bump * Vec3::new(theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin()));
+            }
+        }
+        for ring in 0..rings {
+            for segment in 0..segments {
+                let next = (segment + 1) % segments;
+                let [a, b] = [ring * segments + segment, ring * segments + next];
+                let [c, d] = [a + segments, b + segments];
+                mesh.triangles.push([a, c, b]);
+                mesh.triangles.push([b, c, d]);
+            }
+        }
+        mesh
+    }
+
     /// Loads every object of an OBJ file as one mesh (triangulated). Errors name the file.
     ///
     /// Errors: the file cannot be read; a line does not parse (the message gives the line); a
