@@ -84,14 +84,17 @@ fn intersect_benchmarks(c: &mut Criterion) {
     let geometry = Geometry::build(shapes.clone(), vec![mesh.clone()]);
     let stats = geometry.bvh_stats();
     eprintln!(
-        "{triangles} triangles: first build {:.3} s; BVH {} nodes, {} leaves, depth {}, {:.1} MB, \
-         {:.1} bytes/triangle (shapes and mesh excluded)",
+        "{triangles} triangles: first build {:.3} s; BVH {} nodes, {} leaves, depth {}; nodes {:.1} MB \
+         ({:.1} bytes/triangle), leaf data {:.1} MB, total {:.1} bytes/triangle (shapes and mesh \
+         excluded)",
         start.elapsed().as_secs_f64(),
         stats.nodes,
         stats.leaves,
         stats.max_depth,
         stats.bytes as f64 / 1e6,
-        stats.bytes_per_primitive()
+        stats.bytes_per_primitive(),
+        stats.primitive_bytes as f64 / 1e6,
+        stats.total_bytes_per_primitive()
     );
 
     let mut group = c.benchmark_group("build");

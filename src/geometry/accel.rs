@@ -110,7 +110,8 @@ impl Geometry {
                 }
             }
         }
-        let sheared = ShearedRay::new(*ray);
+        // Prepared on the first triangle packet: rays that meet only spheres never need it.
+        let mut sheared: Option<ShearedRay> = None;
         let mut nearest: Option<Nearest> = None;
         let found = self.bvh.closest_hit(ray, t_limit, |first, count, mut t_limit| {
             let mut found = None;
@@ -129,11 +130,12 @@ impl Geometry {
                     }
                     continue;
                 }
-                let mut candidates = packet.candidates(&sheared, t_limit);
+                let sheared = sheared.get_or_insert_with(|| ShearedRay::new(*ray));
+                let mut candidates = packet.candidates(sheared, t_limit);
                 while candidates != 0 {
                     let lane = candidates.trailing_zeros() as usize;
                     candidates &= candidates - 1;
-                    if let Some(hit) = packet.intersect_lane(lane, &sheared, t_limit) {
+                    if let Some(hit) = packet.intersect_lane(lane, sheared, t_limit) {
                         t_limit = hit.t;
                         found = Some(hit.t);
                         nearest = Some(Nearest::Triangle { packet: index, lane: lane as u8, hit });
@@ -174,7 +176,7 @@ impl Geometry {
         if self.planes.iter().any(|packet| packet.any(ray, t_max)) {
             return true;
         }
-        let sheared = ShearedRay::new(*ray);
+        let mut sheared: Option<ShearedRay> = None;
         self.bvh.any_hit(ray, t_max, |first, count, t_max| {
             self.packets[first as usize..(first + count) as usize].iter().any(|packet| {
                 if packet.holds_spheres() {
@@ -183,11 +185,12 @@ impl Geometry {
                             && packet.sphere(lane).intersect(ray, t_max, 0).is_some()
                     });
                 }
-                let mut candidates = packet.candidates(&sheared, t_max);
+                let sheared = sheared.get_or_insert_with(|| ShearedRay::new(*ray));
+                let mut candidates = packet.candidates(sheared, t_max);
                 while candidates != 0 {
                     let lane = candidates.trailing_zeros() as usize;
                     candidates &= candidates - 1;
-                    if packet.intersect_lane(lane, &sheared, t_max).is_some() {
+                    if packet.intersect_lane(lane, sheared, t_max).is_some() {
                         return true;
                     }
                 }

@@ -24,12 +24,20 @@
 //!   ([`Bvh::map_leaves`]; [`super::Geometry`] makes them runs of its primitive packets).
 //! * **Traversal**: a fixed-size stack holding (child, entry distance); the children a ray
 //!   enters are visited nearest first, the others pushed and skipped on pop once a closer hit
-//!   is known (any-hit traversal skips the sort and stops at the first hit). The slab test is
-//!   robust (T. Ize, "Robust BVH Ray Traversal", *JCGT* 2(2), 2013): the exit distance is
-//!   enlarged by 1 + 2·γ(3) so that rounding in `(bound − origin)·(1/dir)` never makes a ray
-//!   miss a box that holds the primitive it hits. A direction component of ±0 gives an
-//!   infinite inverse; the one indeterminate case, 0·∞ (origin exactly on a slab plane of a ray
-//!   parallel to it), constrains nothing, which is the conservative answer.
+//!   is known (any-hit traversal skips the sort and stops at the first hit). The nodes of
+//!   pushed children are prefetched, so that their fetch from memory overlaps with the work on
+//!   the nearer ones (about +10 % on incoherent rays through a 1M-triangle mesh, measured
+//!   interleaved on a noisy machine).
+//! * **Robust slab test** (T. Ize, "Robust BVH Ray Traversal", *JCGT* 2(2), 2013): the exit
+//!   distance is enlarged by 1 + 2·γ(3) so that rounding in `(bound − origin)·(1/dir)` never
+//!   makes a ray miss a box that holds the primitive it hits. A direction component of ±0 gives
+//!   an infinite inverse; the one indeterminate case, 0·∞ (origin exactly on a slab plane of a
+//!   ray parallel to it), constrains nothing, which is the conservative answer.
+//! * **Measured and not kept**: 8-wide nodes (two 4-wide tests; depth 10 instead of 14 on the
+//!   1M-triangle mesh, but 6 % more instructions and no speed-up beyond the noise), 32 SAH
+//!   bins (0.7 % fewer instructions per incoherent ray, slower build), prefetching leaves, and
+//!   completing the triangle test's error bound 4-wide (no fewer instructions: most packets
+//!   that reach it have a single candidate).
 
 use std::mem::MaybeUninit;
 
@@ -299,7 +307,9 @@ impl Bvh {
                         } else {
                             (first, second)
                         };
-                        stack.push(node.pending(far, &entry));
+                        let far = node.pending(far, &entry);
+                        self.prefetch(far);
+                        stack.push(far);
                         current = node.pending(near, &entry);
                         continue;
                     }
@@ -320,6 +330,7 @@ impl Bvh {
                             hit_count += 1;
                         }
                         for far in hits[1..hit_count].iter().rev() {
+                            self.prefetch(*far);
                             stack.push(*far);
                         }
                         current = hits[0];
@@ -338,6 +349,26 @@ impl Bvh {
                 if pending.entry <= t_max {
                     current = pending;
                     break;
+                }
+            }
+        }
+    }
+
+    /// Asks the memory system for the node of `pending`, if it is one, which the traversal
+    /// will visit later unless a closer hit culls it; the fetch then overlaps with the work on
+    /// the nearer children instead of stalling the visit.
+    #[inline(always)]
+    fn prefetch(&self, pending: Pending) {
+        #[cfg(target_arch = "x86_64")]
+        if pending.count == 0 {
+            if let Some(node) = self.nodes.get(pending.child as usize) {
+                let address = (node as *const Node).cast::<i8>();
+                // SAFETY: a prefetch is a hint that never faults, and both addresses lie inside
+                // `node` (128 bytes: two cache lines).
+                unsafe {
+                    use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+                    _mm_prefetch::<_MM_HINT_T0>(address);
+                    _mm_prefetch::<_MM_HINT_T0>(address.add(64));
                 }
             }
         }
@@ -362,7 +393,9 @@ impl Bvh {
                     let first = mask.trailing_zeros() as usize;
                     mask &= mask - 1;
                     while mask != 0 {
-                        stack.push(node.pending(mask.trailing_zeros() as usize, &no_entry));
+                        let other = node.pending(mask.trailing_zeros() as usize, &no_entry);
+                        self.prefetch(other);
+                        stack.push(other);
                         mask &= mask - 1;
                     }
                     current = node.pending(first, &no_entry);

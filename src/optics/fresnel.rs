@@ -95,8 +95,8 @@ pub fn fresnel_dielectric(cos_theta_i: f32, eta: f32) -> DielectricFresnel {
     }
     let (cos_i, cos_t, eta_it) = (snell.cos_theta_i_abs, snell.cos_theta_t_sqr.sqrt(), snell.eta_it);
     // Both denominators are > 0: cos_t > 0 outside total internal reflection.
-    let r_s = fused_multiply_add(-eta_it, cos_t, cos_i) / fused_multiply_add(eta_it, cos_t, cos_i);
-    let r_p = fused_multiply_add(eta_it, cos_i, -cos_t) / fused_multiply_add(eta_it, cos_i, cos_t);
+    let r_s = (-eta_it).mul_add(cos_t, cos_i) / eta_it.mul_add(cos_t, cos_i);
+    let r_p = eta_it.mul_add(cos_i, -cos_t) / eta_it.mul_add(cos_i, cos_t);
     let (reflectance_s, reflectance_p) = (r_s * r_s, r_p * r_p);
     DielectricFresnel {
         r_s,
@@ -251,9 +251,9 @@ impl Snell {
             Rounding::ComplexIndex => eta * (1.0 / (eta * eta)),
         };
         let (eta_it, eta_ti) = if from_exterior { (eta, rcp_eta) } else { (rcp_eta, eta) };
-        let sin_theta_i_sqr = fused_multiply_add(-cos_theta_i, cos_theta_i, 1.0);
+        let sin_theta_i_sqr = (-cos_theta_i).mul_add(cos_theta_i, 1.0);
         let cos_theta_t_sqr = match rounding {
-            Rounding::Fused => fused_multiply_add(-sin_theta_i_sqr, eta_ti * eta_ti, 1.0),
+            Rounding::Fused => (-sin_theta_i_sqr).mul_add(eta_ti * eta_ti, 1.0),
             Rounding::ComplexIndex => 1.0 - eta_ti * eta_ti * sin_theta_i_sqr,
         };
         Self { from_exterior, cos_theta_i_abs: cos_theta_i.abs(), cos_theta_t_sqr, eta_it, eta_ti }
@@ -274,38 +274,6 @@ impl Snell {
             cos_theta_t
         }
     }
-}
-
-/// `a·b + c` rounded once, exactly as `f32::mul_add`, which on the x86-64 baseline (no FMA
-/// instruction) is a call into the runtime's `fmaf` (a CPU-feature dispatch, then either the
-/// FMA instruction or a software emulation); this one is inline, branch-light and does not
-/// depend on the CPU. The fused roundings are kept because near the critical angle a second
-/// rounding of cos² θt moves R by up to 6e-4 (beyond the Mitsuba fixtures' 1e-5), and the
-/// reciprocity test of the amplitudes has less than 1e-7 of margin left at 85°.
-///
-/// The product of two f32 is exact in f64 (48 ≤ 53 bits). The f64 sum is made "rounded to odd"
-/// (its error, from Knuth's TwoSum, sets the last bit when it is not zero), and rounding that
-/// to f32 gives the correctly rounded result, because f64 carries more than 24 + 2 bits
-/// (S. Boldo, G. Melquiond, "Emulation of FMA and correctly rounded sums: proved algorithms
-/// using rounding to odd", *IEEE Trans. Computers* 57(4), 2008). Bit-identical to
-/// `f32::mul_add` for finite inputs whose result does not overflow.
-#[inline]
-fn fused_multiply_add(a: f32, b: f32, c: f32) -> f32 {
-    let product = f64::from(a) * f64::from(b);
-    let addend = f64::from(c);
-    let sum = product + addend;
-    // TwoSum: sum + error = product + addend exactly.
-    let addend_part = sum - product;
-    let product_part = sum - addend_part;
-    let error = (product - product_part) + (addend - addend_part);
-    let bits = sum.to_bits();
-    let odd = if error != 0.0 && bits & 1 == 0 {
-        // One step towards the exact value: away from zero when the error has the sum's sign.
-        f64::from_bits(if (error > 0.0) == (sum > 0.0) { bits + 1 } else { bits - 1 })
-    } else {
-        sum
-    };
-    odd as f32
 }
 
 #[cfg(test)]
@@ -607,39 +575,5 @@ mod tests {
         }
         // Most of the 9 × 455 points.
         assert!(compared > 3500, "{compared}");
-    }
-
-    #[test]
-    fn fused_multiply_add_is_bit_identical_to_mul_add() {
-        // Random operands of all magnitudes and signs, and the cases the Snell computation
-        // makes (1 − c·c and 1 − s·η² near 0, where a second rounding would show), against
-        // the correctly rounded f32::mul_add.
-        let mut state = 0x2545_f491_4f6c_dd1d_u64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
-        for _ in 0..1_000_000 {
-            let bits = next();
-            let value = |shift: u32| {
-                let exponent = ((bits >> shift) % 40) as i32 - 20;
-                let mantissa = 1.0 + ((bits >> (shift + 8)) & 0x7f_ffff) as f32 / 8_388_608.0;
-                let sign = if (bits >> (shift + 31)) & 1 == 1 { -1.0 } else { 1.0 };
-                sign * mantissa * 2f32.powi(exponent)
-            };
-            let (a, b, c) = (value(0), value(20), value(40));
-            assert_eq!(fused_multiply_add(a, b, c).to_bits(), a.mul_add(b, c).to_bits(), "{a} {b} {c}");
-            let cos = (bits % 1_000_001) as f32 / 1_000_000.0;
-            assert_eq!(fused_multiply_add(-cos, cos, 1.0).to_bits(), (-cos).mul_add(cos, 1.0).to_bits());
-            let sin2 = fused_multiply_add(-cos, cos, 1.0);
-            let eta2 = value(7).abs().clamp(0.25, 4.0);
-            assert_eq!(
-                fused_multiply_add(-sin2, eta2, 1.0).to_bits(),
-                (-sin2).mul_add(eta2, 1.0).to_bits(),
-                "{sin2} {eta2}"
-            );
-        }
     }
 }
