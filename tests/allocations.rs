@@ -94,7 +94,7 @@ fn no_allocation_per_ray_or_per_sample() {
     let allocations_at = |spp| {
         let mut settings = scene.settings.clone();
         settings.spp = spp;
-        let job = Job { settings, threads: 1, monochromatic_nm: None, progress: false };
+        let job = Job { threads: 1, ..Job::new(settings) };
         let (count, (_, stats)) = allocations_during(|| render(&scene, &job).expect("render"));
         (count, stats.rays)
     };
