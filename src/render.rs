@@ -1,6 +1,6 @@
 //! [`render`]: the image of a scene, tiles in parallel on a rayon pool.
 //!
-//! Every camera sample draws its random numbers from a stream keyed by (seed, pixel, sample),
+//! Every camera sample draws its sample values from a sequence keyed by (seed, pixel, sample),
 //! and each pixel's samples are summed in a fixed order, so the image is bit-identical whatever
 //! the thread count and tile schedule.
 
@@ -140,12 +140,13 @@ fn render_tile(scene: &Scene, integrator: &Whitted, job: &Job, x0: u32, y0: u32)
             let mut sum = [0f64; 3];
             for sample in 0..settings.spp {
                 let mut rng = PixelRng::new(settings.seed, x, y, sample);
+                // The position first: the sampler's first two dimensions are stratified jointly.
+                let (jx, jy) = (rng.uniform(), rng.uniform());
                 let u_lambda = rng.uniform();
                 let wavelengths = match job.monochromatic_nm {
                     Some(nm) => SampledWavelengths::monochromatic(nm),
                     None => SampledWavelengths::sample_visible(u_lambda, settings.wavelengths),
                 };
-                let (jx, jy) = (rng.uniform(), rng.uniform());
                 let ray = scene.camera.ray(x as f32 + jx, y as f32 + jy);
                 let radiance = integrator.radiance(&ray, &wavelengths, &mut rng, &mut stats);
                 let xyz = cie::to_xyz(&radiance, &wavelengths);

@@ -7,7 +7,7 @@ use anyhow::{anyhow, Context};
 use clap::Args;
 
 use super::{say, CliError};
-use prisma::output::{exr::write_exr, png::write_png};
+use prisma::output::{atomic::write_text, exr::write_exr, png::write_png};
 use prisma::render::{render, Job};
 use prisma::scene::build::{MAX_DEPTH, MAX_RESOLUTION, MAX_SPP};
 use prisma::spectrum::{LAMBDA_MAX_NM, LAMBDA_MIN_NM};
@@ -38,7 +38,7 @@ pub struct RenderArgs {
     /// Render threads [default: one per core]. The image does not depend on it.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=1024))]
     threads: Option<u32>,
-    /// Seed of the random streams.
+    /// Seed of the per-pixel sample sequences.
     #[arg(long, value_name = "S")]
     seed: Option<u64>,
     /// Exposure of the PNG preview in stops (the EXR is never scaled).
@@ -50,6 +50,9 @@ pub struct RenderArgs {
     /// Do not print the progress bar and the closing summary.
     #[arg(short, long)]
     quiet: bool,
+    /// Also write the render's figures (time without loading and writing, rays, samples) as JSON.
+    #[arg(long, value_name = "STATS.json")]
+    stats: Option<PathBuf>,
 }
 
 impl RenderArgs {
@@ -68,6 +71,7 @@ impl RenderArgs {
             exposure: 0.0,
             wavelength: None,
             quiet: false,
+            stats: None,
         }
     }
 }
@@ -122,8 +126,26 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         .with_context(|| "writing the PNG preview")
         .map_err(CliError::Failed)?;
 
+    let seconds = stats.elapsed.as_secs_f64();
+    if let Some(path) = &args.stats {
+        let figures = serde_json::json!({
+            "scene": args.scene.display().to_string(),
+            "width": width,
+            "height": height,
+            "spp": settings.spp,
+            "wavelengths_per_sample": settings.wavelengths,
+            "threads": stats.threads,
+            "render_seconds": seconds,
+            "samples": stats.samples,
+            "rays": stats.rays,
+            "samples_per_second": stats.samples as f64 / seconds.max(1e-9),
+            "rays_per_second": stats.rays as f64 / seconds.max(1e-9),
+        });
+        write_text(path, &format!("{figures:#}\n"))
+            .with_context(|| "writing the render statistics")
+            .map_err(CliError::Failed)?;
+    }
     if !args.quiet {
-        let seconds = stats.elapsed.as_secs_f64();
         say!(
             "rendered {}: {width}×{height}, {} spp, {} in {seconds:.2} s on {} threads ({:.1} M rays, {:.2} M rays/s)",
             args.scene.display(),

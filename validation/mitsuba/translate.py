@@ -263,7 +263,7 @@ class Translator:
 
     # Scene ----------------------------------------------------------------------------------
 
-    def sensor(self, spp, pixel_format=None):
+    def sensor(self, spp, pixel_format=None, sampler="independent"):
         cam = self.scene.camera
         if pixel_format is None:
             pixel_format = "luminance" if self.mono else "rgb"
@@ -283,13 +283,14 @@ class Translator:
                 "pixel_format": pixel_format,
                 "component_format": "float32",
             },
-            "sampler": {"type": "independent", "sample_count": int(spp)},
+            "sampler": {"type": sampler, "sample_count": int(spp)},
         }
 
-    def scene_dict(self, integrator, spp, pixel_format=None):
-        """The Mitsuba scene dictionary, with `integrator` (a plugin dictionary)."""
+    def scene_dict(self, integrator, spp, pixel_format=None, sampler="independent"):
+        """The Mitsuba scene dictionary, with `integrator` (a plugin dictionary) and a sampler of
+        plugin type `sampler` (references use "independent")."""
         desc, spectra = self.scene.desc, self.scene.spectra
-        out = {"type": "scene", "integrator": integrator, "sensor": self.sensor(spp, pixel_format)}
+        out = {"type": "scene", "integrator": integrator, "sensor": self.sensor(spp, pixel_format, sampler)}
         for name in desc.get("materials", {}):
             out[f"bsdf_{name}"] = self.bsdf(name)
         mesh_index = 0

@@ -1,0 +1,28 @@
+//! `prisma render --stats` writes the render's figures as JSON, consistent with the job.
+
+use std::process::Command;
+
+#[test]
+fn stats_file_holds_the_jobs_figures() {
+    let dir = tempfile::tempdir().unwrap();
+    let stats = dir.path().join("stats.json");
+    let output = Command::new(env!("CARGO_BIN_EXE_prisma"))
+        .args(["render", "validation/scenes/specular_spheres.toml", "--width", "20", "--spp", "4", "--quiet"])
+        .arg("-o")
+        .arg(dir.path().join("image.exr"))
+        .arg("--stats")
+        .arg(&stats)
+        .output()
+        .unwrap();
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let figures: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
+    // 20 × 15 pixels (the scene is 4:3), 4 samples each; every sample casts its camera ray.
+    assert_eq!(figures["width"], 20);
+    assert_eq!(figures["height"], 15);
+    assert_eq!(figures["samples"], 20 * 15 * 4);
+    assert!(figures["rays"].as_u64().unwrap() >= 20 * 15 * 4);
+    let seconds = figures["render_seconds"].as_f64().unwrap();
+    assert!(seconds > 0.0 && seconds.is_finite(), "{seconds}");
+    let rate = figures["samples_per_second"].as_f64().unwrap();
+    assert!((rate * seconds - 1200.0).abs() < 1e-6 * 1200.0, "{rate} samples/s over {seconds} s");
+}
