@@ -17,7 +17,7 @@ use super::{say, CliError};
 use prisma::light::Light;
 use prisma::material::Material;
 use prisma::optics::Ior;
-use prisma::spectrum::{Spectrum, LAMBDA_MAX_NM, LAMBDA_MIN_NM};
+use prisma::spectrum::{DenseSpectrum, LAMBDA_MAX_NM, LAMBDA_MIN_NM};
 
 /// Arguments of `prisma export`.
 #[derive(Debug, Args)]
@@ -40,7 +40,8 @@ pub fn run(args: &ExportArgs) -> Result<(), CliError> {
     let scene = prisma::scene::load(&args.scene).map_err(|e| CliError::Input(e.into()))?;
     let count = ((LAMBDA_MAX_NM - LAMBDA_MIN_NM) / args.step_nm).floor() as usize + 1;
     let grid: Vec<f32> = (0..count).map(|i| LAMBDA_MIN_NM + i as f32 * args.step_nm).collect();
-    let table = |s: &Spectrum| Value::from(grid.iter().map(|&l| f64::from(s.eval(l))).collect::<Vec<_>>());
+    let table =
+        |s: &DenseSpectrum| Value::from(grid.iter().map(|&l| f64::from(s.eval(l))).collect::<Vec<_>>());
     let ior_table = |n: &Ior| Value::from(grid.iter().map(|&l| f64::from(n.eval(l))).collect::<Vec<_>>());
 
     let mut materials = Map::new();

@@ -12,7 +12,7 @@
 use glam::Vec3;
 
 use super::LightSample;
-use crate::spectrum::{SampledWavelengths, Spectrum};
+use crate::spectrum::{DenseSpectrum, SampledWavelengths};
 
 /// An isotropic point light.
 #[derive(Debug, Clone)]
@@ -20,7 +20,7 @@ pub struct PointLight {
     /// Position (scene units).
     pub position: Vec3,
     /// Radiant intensity, W·sr⁻¹·nm⁻¹.
-    pub intensity: Spectrum,
+    pub intensity: DenseSpectrum,
 }
 
 impl PointLight {

@@ -18,7 +18,7 @@ use glam::Vec3;
 
 use super::LightSample;
 use crate::geometry::Quad;
-use crate::spectrum::{SampledWavelengths, Spectrum};
+use crate::spectrum::{DenseSpectrum, SampledWavelengths};
 
 /// A one-sided quad area light.
 #[derive(Debug, Clone)]
@@ -28,7 +28,7 @@ pub struct QuadLight {
     /// Unit normal of the emitting side.
     pub emit_normal: Vec3,
     /// Emitted radiance, W·m⁻²·sr⁻¹·nm⁻¹.
-    pub radiance: Spectrum,
+    pub radiance: DenseSpectrum,
 }
 
 impl QuadLight {
@@ -103,7 +103,7 @@ mod tests {
                 edge2: Vec3::new(0.0, b, 0.0),
             },
             emit_normal: Vec3::new(0.0, 0.0, -1.0),
-            radiance: Spectrum::constant(1.0),
+            radiance: DenseSpectrum::constant(1.0),
         };
         let (x, y) = (f64::from(a / h), f64::from(b / h));
         let form_factor = (x / (1.0 + x * x).sqrt() * (y / (1.0 + x * x).sqrt()).atan()
@@ -126,7 +126,7 @@ mod tests {
         let light = QuadLight {
             quad: Quad { corner: Vec3::new(-1.0, -1.0, 1.0), edge1: Vec3::X * 2.0, edge2: Vec3::Y * 2.0 },
             emit_normal: Vec3::Z,
-            radiance: Spectrum::constant(1.0),
+            radiance: DenseSpectrum::constant(1.0),
         };
         let wavelengths = SampledWavelengths::monochromatic(550.0);
         assert!(light.sample(Vec3::ZERO, 0, 1, (0.0, 0.0), &wavelengths).is_none());

@@ -10,7 +10,7 @@
 //! ```
 
 use crate::optics::Ior;
-use crate::spectrum::Spectrum;
+use crate::spectrum::DenseSpectrum;
 
 /// A smooth dielectric.
 #[derive(Debug, Clone)]
@@ -18,5 +18,5 @@ pub struct Dielectric {
     /// Index of refraction of the inside relative to the outside (vacuum), as a function of λ.
     pub ior: Ior,
     /// Absorption coefficient inside (per scene unit), if any.
-    pub absorption: Option<Spectrum>,
+    pub absorption: Option<DenseSpectrum>,
 }

@@ -15,13 +15,13 @@
 
 use glam::Vec3;
 
-use crate::spectrum::Spectrum;
+use crate::spectrum::DenseSpectrum;
 
 /// A diffuse reflector.
 #[derive(Debug, Clone)]
 pub struct Diffuse {
     /// Albedo ρ(λ) in [0, 1].
-    pub albedo: Spectrum,
+    pub albedo: DenseSpectrum,
     /// Oren–Nayar (A, B) when the surface is rough; `None` for Lambert.
     oren_nayar: Option<(f32, f32)>,
 }
@@ -29,7 +29,7 @@ pub struct Diffuse {
 impl Diffuse {
     /// A diffuse material with albedo `albedo` and Oren–Nayar roughness `sigma_rad` (radians,
     /// ≥ 0; 0 is Lambert).
-    pub fn new(albedo: Spectrum, sigma_rad: f32) -> Self {
+    pub fn new(albedo: DenseSpectrum, sigma_rad: f32) -> Self {
         let oren_nayar = (sigma_rad > 0.0).then(|| {
             let s2 = sigma_rad * sigma_rad;
             (1.0 - 0.5 * s2 / (s2 + 0.33), 0.45 * s2 / (s2 + 0.09))
@@ -71,7 +71,7 @@ mod tests {
 
     #[test]
     fn zero_roughness_is_lambert() {
-        let d = Diffuse::new(Spectrum::constant(0.5), 0.0);
+        let d = Diffuse::new(DenseSpectrum::constant(0.5), 0.0);
         for (ti, to, dp) in [(10.0, 70.0, 0.0), (60.0, 30.0, 180.0), (85.0, 5.0, 45.0)] {
             assert_eq!(d.shape_factor(Vec3::Z, dir(ti, 0.0), dir(to, dp)), 1.0);
         }
@@ -82,7 +82,7 @@ mod tests {
     /// B = 0.45·0.121847/0.211847 = 0.258824.
     #[test]
     fn oren_nayar_matches_hand_values() {
-        let d = Diffuse::new(Spectrum::constant(0.5), 20f32.to_radians());
+        let d = Diffuse::new(DenseSpectrum::constant(0.5), 20f32.to_radians());
         // Normal incidence and exit: sin α = 0, so f/(ρ/π) = A.
         assert!((d.shape_factor(Vec3::Z, Vec3::Z, Vec3::Z) - 0.865170).abs() < 1e-5);
         // θi = 60°, θo = 30°, same azimuth: A + B·sin 60°·tan 30° = 0.865170 + 0.258824·0.5.

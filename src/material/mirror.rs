@@ -15,13 +15,13 @@
 
 use crate::optics::conductor::fresnel_conductor;
 use crate::optics::metals::MetalEntry;
-use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
+use crate::spectrum::{DenseSpectrum, SampledSpectrum, SampledWavelengths};
 
 /// A perfect mirror.
 #[derive(Debug, Clone)]
 pub struct Mirror {
     /// Fraction of radiance reflected, per wavelength (multiplies the metal's Fresnel term).
-    pub reflectance: Spectrum,
+    pub reflectance: DenseSpectrum,
     /// A metal whose Fresnel reflectance applies, if any.
     pub metal: Option<&'static MetalEntry>,
 }
@@ -52,7 +52,7 @@ mod tests {
     use crate::optics::metals;
 
     fn at(metal: &str, lambda_nm: f32, cos_theta: f32) -> f32 {
-        let mirror = Mirror { reflectance: Spectrum::constant(1.0), metal: metals::metal(metal) };
+        let mirror = Mirror { reflectance: DenseSpectrum::constant(1.0), metal: metals::metal(metal) };
         assert!(mirror.metal.is_some(), "{metal} missing from the catalogue");
         mirror.reflectance(cos_theta, &SampledWavelengths::monochromatic(lambda_nm))[0]
     }
@@ -72,7 +72,7 @@ mod tests {
 
     #[test]
     fn plain_mirror_ignores_angle() {
-        let mirror = Mirror { reflectance: Spectrum::constant(0.7), metal: None };
+        let mirror = Mirror { reflectance: DenseSpectrum::constant(0.7), metal: None };
         let wavelengths = SampledWavelengths::monochromatic(500.0);
         assert_eq!(mirror.reflectance(0.2, &wavelengths)[0], 0.7);
         assert_eq!(mirror.reflectance(-1.0, &wavelengths)[0], 0.7);

@@ -19,7 +19,7 @@ use crate::geometry::{Geometry, Mesh, Plane, Quad, Shape, Sphere};
 use crate::light::{Light, PointLight, QuadLight};
 use crate::material::{Dielectric, Diffuse, Material, Mirror};
 use crate::optics::{catalogue, metals, Ior};
-use crate::spectrum::{Spectrum, N_LAMBDA};
+use crate::spectrum::{DenseSpectrum, Spectrum, N_LAMBDA};
 
 /// Largest accepted image side, in pixels.
 pub const MAX_RESOLUTION: u32 = 32_768;
@@ -86,7 +86,7 @@ impl Builder<'_> {
             Some(spectrum) => {
                 self.spectrum(spectrum.get_ref(), Role::Emission, spectrum.span(), "background")?
             }
-            None => Spectrum::constant(0.0),
+            None => DenseSpectrum::constant(0.0),
         };
 
         let mut materials = Vec::with_capacity(desc.materials.len() + 1);
@@ -222,7 +222,7 @@ impl Builder<'_> {
             MaterialDesc::Mirror { reflectance, metal } => {
                 let reflectance = match reflectance {
                     Some(r) => self.spectrum(r, Role::Reflectance, span.clone(), &field("reflectance"))?,
-                    None => Spectrum::constant(1.0),
+                    None => DenseSpectrum::constant(1.0),
                 };
                 let metal = match metal {
                     Some(name) => Some(metals::metal(name).ok_or_else(|| {
@@ -300,7 +300,7 @@ impl Builder<'_> {
         role: Role,
         span: std::ops::Range<usize>,
         field: &str,
-    ) -> Result<Spectrum, SceneError> {
+    ) -> Result<DenseSpectrum, SceneError> {
         let fields = &desc.0;
         let err = |message: String| self.error(span.clone(), field, message);
         let given = [
@@ -362,7 +362,7 @@ impl Builder<'_> {
         } else {
             unreachable!("exactly one spectrum form was checked above")
         };
-        Ok(spectrum.scaled(scale))
+        Ok(DenseSpectrum::new(&spectrum.scaled(scale)))
     }
 
     fn point(&self, p: [f32; 3], span: std::ops::Range<usize>, field: &str) -> Result<Vec3, SceneError> {

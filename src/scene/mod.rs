@@ -12,7 +12,7 @@ use crate::camera::Camera;
 use crate::geometry::Geometry;
 use crate::light::Light;
 use crate::material::Material;
-use crate::spectrum::Spectrum;
+use crate::spectrum::DenseSpectrum;
 
 /// Sampling settings of a render.
 #[derive(Debug, Clone, PartialEq)]
@@ -67,5 +67,5 @@ pub struct Scene {
     /// Lights.
     pub lights: Vec<Light>,
     /// Radiance of escaping rays, W·m⁻²·sr⁻¹·nm⁻¹.
-    pub background: Spectrum,
+    pub background: DenseSpectrum,
 }

@@ -52,11 +52,14 @@ pub fn to_xyz(radiance: &SampledSpectrum, wavelengths: &SampledWavelengths) -> V
         return Vec3::splat(radiance[0]);
     }
     let active = wavelengths.active();
+    let table = cmf_table();
     let mut sum = Vec3::ZERO;
     for lane in 0..active {
         let pdf_per_nm = wavelengths.pdf_per_nm(lane);
         debug_assert!(pdf_per_nm > 0.0, "active lane {lane} has pdf {pdf_per_nm}");
-        sum += cmf(wavelengths.lambda_nm(lane)) * (radiance[lane] / pdf_per_nm);
+        // The lane's grid position was computed with its wavelength: the same interpolation as
+        // `cmf`, without finding the position again.
+        sum += wavelengths.grid()[lane].lerp_vec3(table) * (radiance[lane] / pdf_per_nm);
     }
     sum / (active as f32 * cie_y_integral())
 }

@@ -7,12 +7,14 @@
 pub mod cie;
 pub mod color;
 pub mod curve;
+pub mod dense;
 pub mod rgb_upsample;
 pub mod sampled;
 mod tables;
 pub mod wavelengths;
 
 pub use curve::{Spectrum, SpectrumError};
+pub use dense::DenseSpectrum;
 pub use sampled::SampledSpectrum;
 pub use wavelengths::SampledWavelengths;
 

@@ -51,6 +51,47 @@ pub(crate) fn grid_position(lambda_nm: f32) -> Option<(usize, usize, f32)> {
     Some((lower, lower + 1, t))
 }
 
+/// Where a wavelength falls on the grid: the index of the grid point below it and the weight of
+/// the one above, for linear interpolation of any per-grid-point table. Computed once per camera
+/// sample and lane ([`super::SampledWavelengths`]) and shared by every table looked up there.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct GridPosition {
+    /// Grid index below the wavelength, in 0..GRID_LEN − 1.
+    lower: u32,
+    /// Weight of grid point `lower + 1`, in [0, 1].
+    t: f32,
+}
+
+impl GridPosition {
+    /// The position of `lambda_nm`, clamped to 360–830 nm (so a table extends constantly beyond
+    /// its ends). NaN maps to the first grid point.
+    #[inline]
+    pub(crate) fn of(lambda_nm: f32) -> Self {
+        let offset_nm = (lambda_nm - LAMBDA_MIN_NM).clamp(0.0, (GRID_LEN - 1) as f32);
+        // `min` keeps λ = 830 nm inside the last interval; NaN converts to 0. (Through i32:
+        // x86-64 converts f32 to i32 in one instruction, to u32 in several.)
+        let lower = (offset_nm as i32 as u32).min(GRID_LEN as u32 - 2);
+        let t = offset_nm - lower as f32;
+        Self { lower, t: if t.is_nan() { 0.0 } else { t } }
+    }
+
+    /// `table` (one value per grid point) interpolated at this position.
+    #[inline(always)]
+    pub(crate) fn lerp(self, table: &[f32; GRID_LEN]) -> f32 {
+        let lower = self.lower as usize;
+        // `lower` < GRID_LEN − 1 by construction, so neither index can be out of bounds.
+        let (a, b) = (table[lower], table[(lower + 1).min(GRID_LEN - 1)]);
+        a + self.t * (b - a)
+    }
+
+    /// `table` of 3-vectors interpolated at this position.
+    #[inline(always)]
+    pub(crate) fn lerp_vec3(self, table: &[Vec3]) -> Vec3 {
+        let lower = self.lower as usize;
+        table[lower].lerp(table[lower + 1], self.t)
+    }
+}
+
 /// The CIE 1931 2° colour-matching functions (x̄, ȳ, z̄) at each grid point.
 pub(crate) fn cmf_table() -> &'static [Vec3] {
     static TABLE: OnceLock<Vec<Vec3>> = OnceLock::new();
