@@ -14,7 +14,7 @@ use std::sync::OnceLock;
 use glam::Vec3;
 
 use super::tables::{cmf_table, grid_lambda_nm, grid_position, trapezoid_weight_nm, GRID_LEN};
-use super::{SampledSpectrum, SampledWavelengths};
+use super::{SampledSpectrum, SampledWavelengths, N_LAMBDA};
 
 /// ∫ ȳ(λ) dλ over 360–830 nm of the shipped table (nm). An equal-energy spectrum of value 1 has
 /// Y = 1 under prisma's (and Mitsuba 3's) convention `XYZ = ∫ L·cmf dλ / ∫ ȳ dλ`.
@@ -53,13 +53,22 @@ pub fn to_xyz(radiance: &SampledSpectrum, wavelengths: &SampledWavelengths) -> V
     }
     let active = wavelengths.active();
     let table = cmf_table();
-    let mut sum = Vec3::ZERO;
-    for lane in 0..active {
+    let grid = wavelengths.grid();
+    // Every lane's weight L/p at once (inactive lanes 0), then the four interpolated CMFs: the
+    // lanes' grid positions were computed with their wavelengths, so this is `cmf` without
+    // finding the positions again.
+    let weights: [f32; N_LAMBDA] = std::array::from_fn(|lane| {
         let pdf_per_nm = wavelengths.pdf_per_nm(lane);
-        debug_assert!(pdf_per_nm > 0.0, "active lane {lane} has pdf {pdf_per_nm}");
-        // The lane's grid position was computed with its wavelength: the same interpolation as
-        // `cmf`, without finding the position again.
-        sum += wavelengths.grid()[lane].lerp_vec3(table) * (radiance[lane] / pdf_per_nm);
+        debug_assert!(lane >= active || pdf_per_nm > 0.0, "active lane {lane} has pdf {pdf_per_nm}");
+        if lane < active {
+            radiance[lane] / pdf_per_nm
+        } else {
+            0.0
+        }
+    });
+    let mut sum = Vec3::ZERO;
+    for (position, weight) in grid.iter().zip(weights) {
+        sum += position.lerp_vec3(table) * weight;
     }
     sum / (active as f32 * cie_y_integral())
 }

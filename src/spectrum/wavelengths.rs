@@ -72,24 +72,28 @@ pub fn analytic_visible_lambda_nm(u: f64) -> f64 {
         .clamp(f64::from(LAMBDA_MIN_NM), f64::from(LAMBDA_MAX_NM))
 }
 
-/// The tabulated inverse CDF: knots and the density of each segment.
-struct VisibleTable {
-    /// `λ_j` (nm) for j in 0..=SEGMENTS; the first is 360 nm and the last 830 nm.
-    knots_nm: [f32; SEGMENTS + 1],
+/// One segment of the tabulated inverse CDF: u in [j, j + 1)/SEGMENTS maps linearly onto
+/// [`start_nm`, `start_nm + width_nm`), where the density is `pdf_per_nm`. The three values a lane
+/// needs sit together, so a lane's lookup touches one cache line.
+#[derive(Clone, Copy, Debug)]
+struct Segment {
+    /// `λ_j` (nm).
+    start_nm: f32,
     /// `λ_{j+1} − λ_j` (nm).
-    widths_nm: [f32; SEGMENTS],
+    width_nm: f32,
     /// `p_j = 1 / (SEGMENTS · width_j)` (per nm).
-    pdf_per_nm: [f32; SEGMENTS],
+    pdf_per_nm: f32,
 }
 
-static VISIBLE_TABLE: LazyLock<VisibleTable> = LazyLock::new(|| {
+/// The segments; the first starts at 360 nm and the last ends at 830 nm.
+static VISIBLE_TABLE: LazyLock<[Segment; SEGMENTS]> = LazyLock::new(|| {
     let knots_nm: [f32; SEGMENTS + 1] =
         std::array::from_fn(|j| analytic_visible_lambda_nm(j as f64 / SEGMENTS as f64) as f32);
-    let widths_nm = std::array::from_fn(|j| knots_nm[j + 1] - knots_nm[j]);
-    let pdf_per_nm = std::array::from_fn(|j| {
-        (1.0 / (SEGMENTS as f64 * (f64::from(knots_nm[j + 1]) - f64::from(knots_nm[j])))) as f32
-    });
-    VisibleTable { knots_nm, widths_nm, pdf_per_nm }
+    std::array::from_fn(|j| Segment {
+        start_nm: knots_nm[j],
+        width_nm: knots_nm[j + 1] - knots_nm[j],
+        pdf_per_nm: (1.0 / (SEGMENTS as f64 * (f64::from(knots_nm[j + 1]) - f64::from(knots_nm[j])))) as f32,
+    })
 });
 
 /// The density that [`SampledWavelengths::sample_visible`] samples, at `lambda_nm`, per nm: the
@@ -99,8 +103,8 @@ pub fn visible_pdf_per_nm(lambda_nm: f32) -> f32 {
         return 0.0;
     }
     let table = &*VISIBLE_TABLE;
-    let segment = table.knots_nm.partition_point(|&knot| knot <= lambda_nm).clamp(1, SEGMENTS) - 1;
-    table.pdf_per_nm[segment]
+    let segment = table.partition_point(|segment| segment.start_nm <= lambda_nm).clamp(1, SEGMENTS) - 1;
+    table[segment].pdf_per_nm
 }
 
 /// The wavelength in nm (within 360–830) that [`SampledWavelengths::sample_visible`] gives a
@@ -108,14 +112,13 @@ pub fn visible_pdf_per_nm(lambda_nm: f32) -> f32 {
 #[inline]
 pub fn sample_visible_lambda_nm(u: f32) -> (f32, f32) {
     debug_assert!((0.0..=1.0).contains(&u), "u = {u} outside [0, 1]");
-    let table = &*VISIBLE_TABLE;
     let scaled = u * SEGMENTS as f32;
     // `min` keeps u = 1 (and rounding just below it) in the last segment. (Through i32: x86-64
     // converts f32 to i32 in one instruction, to usize in about fifteen.)
     let segment = (scaled as i32 as usize).min(SEGMENTS - 1);
     let within = scaled - segment as f32;
-    let lambda_nm = table.knots_nm[segment] + within * table.widths_nm[segment];
-    (lambda_nm.clamp(LAMBDA_MIN_NM, LAMBDA_MAX_NM), table.pdf_per_nm[segment])
+    let Segment { start_nm, width_nm, pdf_per_nm } = VISIBLE_TABLE[segment];
+    ((start_nm + within * width_nm).min(LAMBDA_MAX_NM), pdf_per_nm)
 }
 
 /// Wavelengths (nm) of one camera sample with their probability densities (per nm) and their
@@ -139,20 +142,23 @@ impl SampledWavelengths {
     pub fn sample_visible(u: f32, count: usize) -> Self {
         assert!((1..=N_LAMBDA).contains(&count), "wavelength count {count} outside 1..={N_LAMBDA}");
         debug_assert!((0.0..1.0).contains(&u), "u = {u} outside [0, 1)");
+        // u_i = frac(u + i/count) for the active lanes (for a sum in [0, 2) exactly `fract`, which
+        // is a libm `truncf` call on the x86-64 baseline); inactive lanes take the hero's
+        // wavelength, so that anything evaluated there is finite, and pdf 0, which keeps them out
+        // of the film. Written lane-parallel, so that it compiles to vector arithmetic around
+        // the table loads.
         let step = 1.0 / count as f32;
-        let mut lambda_nm = [0.0; N_LAMBDA];
-        let mut pdf_per_nm = [0.0; N_LAMBDA];
-        for lane in 0..N_LAMBDA {
-            // u_i = frac(u + i/count) for the active lanes (for a sum in [0, 2) exactly `fract`,
-            // which is a libm `truncf` call on the x86-64 baseline); inactive lanes take the
-            // hero's wavelength, so that anything evaluated there is finite, and pdf 0, which
-            // keeps them out of the film.
+        let u_lanes: [f32; N_LAMBDA] = std::array::from_fn(|lane| {
             let shifted = if lane < count { u + lane as f32 * step } else { u };
-            let u_lane = if shifted >= 1.0 { shifted - 1.0 } else { shifted };
-            let (lambda, pdf) = sample_visible_lambda_nm(u_lane);
-            lambda_nm[lane] = lambda;
-            pdf_per_nm[lane] = if lane < count { pdf } else { 0.0 };
-        }
+            if shifted >= 1.0 {
+                shifted - 1.0
+            } else {
+                shifted
+            }
+        });
+        let sampled = u_lanes.map(sample_visible_lambda_nm);
+        let lambda_nm = sampled.map(|(lambda_nm, _)| lambda_nm);
+        let pdf_per_nm = std::array::from_fn(|lane| if lane < count { sampled[lane].1 } else { 0.0 });
         Self {
             lambda_nm,
             pdf_per_nm,
@@ -231,11 +237,10 @@ mod tests {
         let total = simpson(analytic_visible_pdf_per_nm, 360.0, 830.0, 4700);
         assert!((total - 1.0).abs() < 1e-9, "∫p = {total}");
         let table = &*VISIBLE_TABLE;
-        let tabulated: f64 =
-            (0..SEGMENTS).map(|j| f64::from(table.pdf_per_nm[j]) * f64::from(table.widths_nm[j])).sum();
+        let tabulated: f64 = table.iter().map(|s| f64::from(s.pdf_per_nm) * f64::from(s.width_nm)).sum();
         assert!((tabulated - 1.0).abs() < 1e-5, "Σ p_j·width_j = {tabulated}");
-        assert_eq!(table.knots_nm[0], 360.0);
-        assert_eq!(table.knots_nm[SEGMENTS], 830.0);
+        assert_eq!(table[0].start_nm, 360.0);
+        assert_eq!(table[SEGMENTS - 1].start_nm + table[SEGMENTS - 1].width_nm, 830.0);
         assert_eq!(visible_pdf_per_nm(359.0), 0.0);
         assert_eq!(visible_pdf_per_nm(831.0), 0.0);
     }
