@@ -68,6 +68,18 @@ CASES = [
 ]
 
 
+def prisma_commit():
+    """The commit of the working tree (with "+changes" when it differs), or "unknown"."""
+    try:
+        head = subprocess.run(["git", "-C", str(REPO), "rev-parse", "--short", "HEAD"], check=True,
+                              capture_output=True, text=True).stdout.strip()
+        dirty = subprocess.run(["git", "-C", str(REPO), "status", "--porcelain", "--untracked-files=no"],
+                               check=True, capture_output=True, text=True).stdout.strip()
+        return head + ("+changes" if dirty else "")
+    except (OSError, subprocess.CalledProcessError):
+        return "unknown"
+
+
 def machine():
     model = "unknown CPU"
     try:
@@ -299,8 +311,10 @@ def main():
         "# prisma vs Mitsuba 3: benchmark results",
         "",
         f"Date: {datetime.date.today().isoformat()}. Machine: {machine()}.",
-        f"Mitsuba {mi.__version__}; prisma `{prisma}`. Command: "
+        f"Mitsuba {mi.__version__}; prisma `{prisma}` (commit {prisma_commit()}). Command: "
         f"`validation/.venv/bin/python validation/bench/bench.py{' --quick' if args.quick else ''}`.",
+        "",
+        "Where the time goes and what the next factor would come from: [PROFILE.md](PROFILE.md).",
         "",
         f"## Ray throughput on a {triangles:,}-triangle mesh (Mrays/s, all cores, best of 15 passes in 3 "
         f"alternating rounds)",
