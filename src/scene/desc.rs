@@ -83,7 +83,7 @@ pub struct RenderDesc {
     pub spp: Option<u32>,
     /// Maximum number of specular bounces (recursion depth).
     pub max_depth: Option<u32>,
-    /// Wavelengths carried by each camera sample (1..=4).
+    /// Wavelengths carried by each camera sample (1..=8).
     pub wavelengths: Option<u32>,
     /// Seed of the per-pixel random streams.
     pub seed: Option<u64>,

@@ -33,7 +33,7 @@ pub struct RenderSettings {
 
 impl Default for RenderSettings {
     fn default() -> Self {
-        Self { spp: 16, max_depth: 16, wavelengths: 4, seed: 0, area_light_samples: 4, prune_below: 0.01 }
+        Self { spp: 16, max_depth: 16, wavelengths: 8, seed: 0, area_light_samples: 4, prune_below: 0.01 }
     }
 }
 

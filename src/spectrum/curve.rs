@@ -293,6 +293,7 @@ mod tests {
     use crate::spectrum::cie::chromaticity;
     use crate::spectrum::color::xyz_to_linear_srgb;
     use crate::spectrum::rgb_upsample::reflectance_linear_srgb;
+    use crate::spectrum::N_LAMBDA;
 
     /// XYZ of `spectrum` as an emission, by quadrature.
     fn xyz(spectrum: &Spectrum) -> Vec3 {
@@ -321,7 +322,7 @@ mod tests {
         assert_eq!(spectrum.eval(400.0), 0.25);
         assert_eq!(spectrum.clone().scaled(4.0).eval(700.0), 1.0);
         let wavelengths = SampledWavelengths::sample_visible(0.3, 4);
-        assert_eq!(spectrum.sample(&wavelengths).values, [0.25; 4]);
+        assert_eq!(spectrum.sample(&wavelengths).values, [0.25; N_LAMBDA]);
         let d65 = Spectrum::named_illuminant("D65").expect("D65 is known");
         assert!(!d65.is_constant());
         assert!(d65.scaled(0.0).is_constant());

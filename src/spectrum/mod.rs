@@ -19,7 +19,7 @@ pub use sampled::SampledSpectrum;
 pub use wavelengths::SampledWavelengths;
 
 /// Number of wavelength lanes a camera sample carries.
-pub const N_LAMBDA: usize = 4;
+pub const N_LAMBDA: usize = 8;
 /// Shortest wavelength rendered, in nm (the CIE 1931 tables start here).
 pub const LAMBDA_MIN_NM: f32 = 360.0;
 /// Longest wavelength rendered, in nm (the CIE 1931 tables end here).
