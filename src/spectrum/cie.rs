@@ -45,8 +45,9 @@ pub fn cmf(lambda_nm: f32) -> Vec3 {
 /// Monte Carlo estimate of XYZ from radiance sampled at `wavelengths`: the only place where the
 /// wavelength pdf is divided out. In monochromatic mode it returns (L, L, L) of lane 0 instead.
 ///
-/// The estimate is `Σ_active L(λ_i)·cmf(λ_i) / p(λ_i) / active / ∫ȳ`: each active lane is an
-/// unbiased one-sample estimate of `∫ L·cmf dλ`, and the lanes are averaged.
+/// The estimate is `Σ_active L(λ_i)·cmf(λ_i) / p(λ_i) / active / ∫ȳ`: lane i samples the i-th
+/// 1/active of the sampling CDF, with density active·p there, so its term estimates that part of
+/// `∫ L·cmf dλ` without bias and the sum estimates the whole.
 pub fn to_xyz(radiance: &SampledSpectrum, wavelengths: &SampledWavelengths) -> Vec3 {
     if wavelengths.is_monochromatic() {
         return Vec3::splat(radiance[0]);
@@ -54,9 +55,9 @@ pub fn to_xyz(radiance: &SampledSpectrum, wavelengths: &SampledWavelengths) -> V
     let active = wavelengths.active();
     let table = cmf_table();
     let grid = wavelengths.grid();
-    // Every lane's weight L/p at once (inactive lanes 0), then the four interpolated CMFs: the
-    // lanes' grid positions were computed with their wavelengths, so this is `cmf` without
-    // finding the positions again.
+    // Every lane's weight L/p at once (inactive lanes 0), then the interpolated CMFs: the lanes'
+    // grid positions were computed with their wavelengths, so this is `cmf` without finding the
+    // positions again.
     let weights: [f32; N_LAMBDA] = std::array::from_fn(|lane| {
         let pdf_per_nm = wavelengths.pdf_per_nm(lane);
         debug_assert!(lane >= active || pdf_per_nm > 0.0, "active lane {lane} has pdf {pdf_per_nm}");

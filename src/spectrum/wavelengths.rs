@@ -39,8 +39,8 @@
 //! stays unbiased: the pdf divided out is the one sampled), integrates to 1 by construction, is
 //! positive everywhere on 360–830 nm, keeps the stratification of u (the map is monotonic), and
 //! lies within 1.5 % of the analytic p(λ) (tested; the analytic density itself changes by 3 %
-//! across the widest segment, 2.1 nm at 830 nm), which leaves the variance as it was. The knots are computed once,
-//! in f64.
+//! across the widest segment, 2.1 nm at 830 nm), which leaves the variance as it was. The knots
+//! are computed once, in f64.
 //!
 //! Each lane also records where its wavelength falls on the shared 1 nm grid of the spectral
 //! tables ([`SampledWavelengths::grid`]), so that every spectrum looked up for the sample (all
@@ -57,7 +57,7 @@ const VISIBLE_CENTRE_NM: f64 = 538.0;
 const VISIBLE_RATE_PER_NM: f64 = 0.0072;
 
 /// Segments of the tabulated inverse CDF. At 2048 the segments are 0.12 nm wide at the density's
-/// peak and 2.1 nm at 830 nm, where it is lowest; the three tables take 24 KiB.
+/// peak and 2.1 nm at 830 nm, where it is lowest; the table takes 24 KiB.
 pub const SEGMENTS: usize = 2048;
 
 /// `tanh(k (λ − 538 nm))` at 360 nm and at 830 nm: the CDF's end values before normalisation.
@@ -85,7 +85,8 @@ pub fn analytic_visible_lambda_nm(u: f64) -> f64 {
 
 /// One segment of the tabulated inverse CDF: u in [j, j + 1)/SEGMENTS maps linearly onto
 /// [`start_nm`, `start_nm + width_nm`), where the density is `pdf_per_nm`. The three values a lane
-/// needs sit together, so a lane's lookup touches one cache line.
+/// needs sit together, so a lane's lookup touches one cache line (two when a record straddles
+/// a line boundary).
 #[derive(Clone, Copy, Debug)]
 struct Segment {
     /// `λ_j` (nm).
@@ -146,8 +147,8 @@ pub struct SampledWavelengths {
 }
 
 impl SampledWavelengths {
-    /// Samples `count` (1..=N_LAMBDA) wavelengths from one uniform number `u` in [0, 1): a hero
-    /// wavelength and `count - 1` stratified rotations of it, all importance-sampled over
+    /// Samples `count` (1..=N_LAMBDA) wavelengths from one uniform number `u` in [0, 1): the
+    /// lanes (u + i)/count of the sampling CDF, 1/count apart, each importance-sampled over
     /// 360–830 nm. Panics if `count` is 0 or larger than `N_LAMBDA`.
     #[inline]
     pub fn sample_visible(u: f32, count: usize) -> Self {
@@ -189,7 +190,9 @@ impl SampledWavelengths {
     pub fn lambda_nm(&self, i: usize) -> f32 {
         self.lambda_nm[i]
     }
-    /// Probability density of lane `i`, per nm (0 for inactive lanes).
+    /// The sampling density p at lane `i`'s wavelength, per nm (0 for inactive lanes). Lane `i`
+    /// alone covers the i-th 1/active of the CDF, with density active·p; the film's estimate
+    /// averages L/p over the lanes, which is the same thing.
     #[inline]
     pub fn pdf_per_nm(&self, i: usize) -> f32 {
         self.pdf_per_nm[i]

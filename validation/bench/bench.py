@@ -49,7 +49,7 @@ import translate  # noqa: E402
 # Sample counts a factor of 2 apart, so that the log-log interpolation between them follows the
 # error curves closely (stratified samplers' errors fall faster than 1/N and not as a power law).
 RENDERERS = [
-    ("prisma", "sobol-owen", [4, 8, 16, 32, 64, 128, 256, 512, 1024]),
+    ("prisma", "sobol-owen", [1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024]),
     ("llvm_ad_spectral", "independent", [4, 16, 64, 256, 1024, 4096]),
     # ldsampler rounds its sample count up to a power of 4 (8 renders 16 samples), and
     # multijitter stratifies best on perfect squares (it rounds 32 up to 5 × 7 = 35, which
