@@ -55,6 +55,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
     let start = Instant::now();
     let geometry = Geometry::build(shapes, vec![mesh]);
     let build_seconds = start.elapsed().as_secs_f64();
+    let stats = geometry.bvh_stats();
 
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.threads.unwrap_or(0) as usize)
@@ -77,9 +78,11 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
     }
     let million = 1e-6 * rays.len() as f64;
     say!(
-        "{{\"renderer\": \"prisma\", \"triangles\": {triangles}, \"rays\": {}, \"threads\": {}, \"load_s\": {load_seconds:.3}, \"build_s\": {build_seconds:.3}, \"closest_mrays_s\": {:.3}, \"any_mrays_s\": {:.3}, \"hits\": {hits}, \"occluded\": {occluded}, \"mean_t\": {:.6}}}",
+        "{{\"renderer\": \"prisma\", \"triangles\": {triangles}, \"rays\": {}, \"threads\": {}, \"load_s\": {load_seconds:.3}, \"build_s\": {build_seconds:.3}, \"bvh_bytes_per_triangle\": {:.1}, \"total_bytes_per_triangle\": {:.1}, \"closest_mrays_s\": {:.3}, \"any_mrays_s\": {:.3}, \"hits\": {hits}, \"occluded\": {occluded}, \"mean_t\": {:.6}}}",
         rays.len(),
         pool.current_num_threads(),
+        stats.bytes_per_primitive(),
+        stats.total_bytes_per_primitive(),
         million / best_closest,
         million / best_any,
         t_sum / hits.max(1) as f64

@@ -326,7 +326,10 @@ def main():
         lines.append(f"| {kind} | {count:,} | {p['closest_mrays_s']:.2f} | {m['closest']:.2f} | "
                      f"{p['closest_mrays_s'] / m['closest']:.2f} | {p['any_mrays_s']:.2f} | {m['any']:.2f} | "
                      f"{p['any_mrays_s'] / m['any']:.2f} | {p['hits']} / {m['hits']} |")
-    lines += [f"", f"prisma BVH build: {ray_rows[0][2]['build_s']:.2f} s for {triangles:,} triangles.", ""]
+    built = ray_rows[0][2]
+    lines += [f"", f"prisma BVH build: {built['build_s']:.2f} s for {triangles:,} triangles (2 threads); memory "
+                   f"{built['bvh_bytes_per_triangle']:.1f} bytes per triangle for the nodes, "
+                   f"{built['total_bytes_per_triangle']:.1f} with the leaf packets that copy the vertices.", ""]
     for title, case, pixels, floor, result in rows:
         lines += [f"## {title} (`validation/scenes/{case}.toml`)", "",
                   f"relMSE against the converged reference (the mean of the two committed 65,536-spp Mitsuba "
