@@ -11,7 +11,7 @@
 
 use std::sync::OnceLock;
 
-use glam::Vec3;
+use glam::{Vec3, Vec3A};
 
 use super::tables::{cmf_table, grid_lambda_nm, grid_position, trapezoid_weight_nm, GRID_LEN};
 use super::{SampledSpectrum, SampledWavelengths, N_LAMBDA};
@@ -36,7 +36,7 @@ pub fn cmf(lambda_nm: f32) -> Vec3 {
     match grid_position(lambda_nm) {
         Some((lower, upper, t)) => {
             let table = cmf_table();
-            table[lower].lerp(table[upper], t)
+            Vec3::from(table[lower].lerp(table[upper], t))
         }
         None => Vec3::ZERO,
     }
@@ -67,11 +67,11 @@ pub fn to_xyz(radiance: &SampledSpectrum, wavelengths: &SampledWavelengths) -> V
             0.0
         }
     });
-    let mut sum = Vec3::ZERO;
+    let mut sum = Vec3A::ZERO;
     for (position, weight) in grid.iter().zip(weights) {
         sum += position.lerp_vec3(table) * weight;
     }
-    sum / (active as f32 * cie_y_integral())
+    Vec3::from(sum / (active as f32 * cie_y_integral()))
 }
 
 /// CIE XYZ of the spectral function `value_at(λ)` (λ in nm) under the same normalisation as

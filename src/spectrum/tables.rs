@@ -12,7 +12,7 @@
 
 use std::sync::OnceLock;
 
-use glam::Vec3;
+use glam::Vec3A;
 
 use super::{LAMBDA_MAX_NM, LAMBDA_MIN_NM};
 
@@ -86,19 +86,20 @@ impl GridPosition {
 
     /// `table` of 3-vectors interpolated at this position.
     #[inline(always)]
-    pub(crate) fn lerp_vec3(self, table: &[Vec3]) -> Vec3 {
+    pub(crate) fn lerp_vec3(self, table: &[Vec3A]) -> Vec3A {
         let lower = self.lower as usize;
         table[lower].lerp(table[lower + 1], self.t)
     }
 }
 
-/// The CIE 1931 2° colour-matching functions (x̄, ȳ, z̄) at each grid point.
-pub(crate) fn cmf_table() -> &'static [Vec3] {
-    static TABLE: OnceLock<Vec<Vec3>> = OnceLock::new();
+/// The CIE 1931 2° colour-matching functions (x̄, ȳ, z̄) at each grid point, as 16-byte vectors
+/// (`Vec3A`), so that an interpolation is two vector loads and vector arithmetic.
+pub(crate) fn cmf_table() -> &'static [Vec3A] {
+    static TABLE: OnceLock<Vec<Vec3A>> = OnceLock::new();
     TABLE.get_or_init(|| {
         parse_grid::<3>("data/cie1931_2deg.csv", include_str!("../../data/cie1931_2deg.csv"))
             .into_iter()
-            .map(Vec3::from_array)
+            .map(Vec3A::from_array)
             .collect()
     })
 }
