@@ -13,8 +13,8 @@ use std::sync::OnceLock;
 
 use glam::{Vec3, Vec3A};
 
-use super::tables::{cmf_table, grid_lambda_nm, grid_position, trapezoid_weight_nm, GRID_LEN};
-use super::{SampledSpectrum, SampledWavelengths, N_LAMBDA};
+use super::tables::{cmf_table, grid_lambda_nm, trapezoid_weight_nm, GridPosition, GRID_LEN};
+use super::{SampledSpectrum, SampledWavelengths, LAMBDA_MAX_NM, LAMBDA_MIN_NM, N_LAMBDA};
 
 /// ∫ ȳ(λ) dλ over 360–830 nm of the shipped table (nm). An equal-energy spectrum of value 1 has
 /// Y = 1 under prisma's (and Mitsuba 3's) convention `XYZ = ∫ L·cmf dλ / ∫ ȳ dλ`.
@@ -33,13 +33,10 @@ pub fn cie_y_integral() -> f32 {
 /// The colour-matching functions (x̄, ȳ, z̄) at `lambda_nm`, linearly interpolated; zero outside
 /// 360–830 nm.
 pub fn cmf(lambda_nm: f32) -> Vec3 {
-    match grid_position(lambda_nm) {
-        Some((lower, upper, t)) => {
-            let table = cmf_table();
-            Vec3::from(table[lower].lerp(table[upper], t))
-        }
-        None => Vec3::ZERO,
+    if !(LAMBDA_MIN_NM..=LAMBDA_MAX_NM).contains(&lambda_nm) {
+        return Vec3::ZERO;
     }
+    Vec3::from(GridPosition::of(lambda_nm).lerp_vec3(cmf_table()))
 }
 
 /// Monte Carlo estimate of XYZ from radiance sampled at `wavelengths`: the only place where the

@@ -23,7 +23,7 @@ use glam::Vec3;
 
 use super::cie::xyz_by_quadrature;
 use super::rgb_upsample::{d65_white_gains, fit_reflectance, SigmoidPolynomial};
-use super::tables::{d65_table, grid_position};
+use super::tables::{d65_table, GridPosition};
 use super::{SampledSpectrum, SampledWavelengths, LAMBDA_MAX_NM, LAMBDA_MIN_NM};
 
 /// Why a spectrum could not be built from its description.
@@ -79,11 +79,10 @@ fn d65_table_luminance() -> f32 {
 /// The tabulated D65 (100 at 560 nm) at `lambda_nm`, linearly interpolated, held constant beyond
 /// 360–830 nm; NaN for a NaN wavelength.
 fn d65_relative(lambda_nm: f32) -> f32 {
-    let table = d65_table();
-    match grid_position(lambda_nm.clamp(LAMBDA_MIN_NM, LAMBDA_MAX_NM)) {
-        Some((lower, upper, t)) => table[lower] + t * (table[upper] - table[lower]),
-        None => f32::NAN,
+    if lambda_nm.is_nan() {
+        return f32::NAN;
     }
+    GridPosition::of(lambda_nm).lerp(d65_table())
 }
 
 /// D65 normalised to Y = 1.

@@ -49,7 +49,7 @@ impl DenseSpectrum {
     pub fn eval(&self, lambda_nm: f32) -> f32 {
         match self {
             Self::Constant(value) => *value,
-            Self::Table(table) => GridPosition::of(lambda_nm).lerp(table),
+            Self::Table(table) => GridPosition::of(lambda_nm).lerp(table.as_slice()),
         }
     }
 
@@ -60,7 +60,9 @@ impl DenseSpectrum {
             Self::Constant(value) => SampledSpectrum::splat(*value),
             Self::Table(table) => {
                 let grid = wavelengths.grid();
-                SampledSpectrum { values: std::array::from_fn::<_, N_LAMBDA, _>(|i| grid[i].lerp(table)) }
+                SampledSpectrum {
+                    values: std::array::from_fn::<_, N_LAMBDA, _>(|i| grid[i].lerp(table.as_slice())),
+                }
             }
         }
     }

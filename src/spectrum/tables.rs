@@ -14,7 +14,7 @@ use std::sync::OnceLock;
 
 use glam::Vec3A;
 
-use super::{LAMBDA_MAX_NM, LAMBDA_MIN_NM};
+use super::LAMBDA_MIN_NM;
 
 /// Number of 1 nm grid points from 360 to 830 nm inclusive.
 pub(crate) const GRID_LEN: usize = 471;
@@ -34,21 +34,6 @@ pub(crate) fn trapezoid_weight_nm(i: usize) -> f64 {
     } else {
         1.0
     }
-}
-
-/// Where `lambda_nm` falls on the grid, for linear interpolation of a per-grid-point quantity:
-/// the two neighbouring grid indices and the weight of the upper one; `None` outside 360–830 nm
-/// (and for NaN).
-#[inline]
-pub(crate) fn grid_position(lambda_nm: f32) -> Option<(usize, usize, f32)> {
-    if !(LAMBDA_MIN_NM..=LAMBDA_MAX_NM).contains(&lambda_nm) {
-        return None;
-    }
-    let offset_nm = lambda_nm - LAMBDA_MIN_NM;
-    // `min` keeps λ = 830 nm (and any rounding just below it) inside the last interval.
-    let lower = (offset_nm as usize).min(GRID_LEN - 2);
-    let t = (offset_nm - lower as f32).clamp(0.0, 1.0);
-    Some((lower, lower + 1, t))
 }
 
 /// Where a wavelength falls on the grid: the index of the grid point below it and the weight of
@@ -77,10 +62,9 @@ impl GridPosition {
 
     /// `table` (one value per grid point) interpolated at this position.
     #[inline(always)]
-    pub(crate) fn lerp(self, table: &[f32; GRID_LEN]) -> f32 {
+    pub(crate) fn lerp(self, table: &[f32]) -> f32 {
         let lower = self.lower as usize;
-        // `lower` < GRID_LEN − 1 by construction, so neither index can be out of bounds.
-        let (a, b) = (table[lower], table[(lower + 1).min(GRID_LEN - 1)]);
+        let (a, b) = (table[lower], table[lower + 1]);
         a + self.t * (b - a)
     }
 
