@@ -52,3 +52,29 @@ fn exr_round_trip_is_exact() {
     assert_eq!(image.rgb(["XYZ.X", "XYZ.Y", "XYZ.Z"]).unwrap(), film.xyz());
     assert!(image.channel("A").unwrap().iter().all(|&a| a == 1.0));
 }
+
+/// Regression: the EXR file itself, not only its pixels, is the same every time. The exr crate
+/// compresses blocks in parallel and, with an unspecified line order, wrote them in whatever order
+/// they finished, so two writes of one image differed in their offset tables.
+#[test]
+fn exr_files_are_byte_identical() {
+    // Large enough for the writer to compress blocks in parallel.
+    let mut scene = small_scene();
+    scene.camera = scene.camera.with_resolution(800, 450).unwrap();
+    scene.settings.spp = 1;
+    let job = Job { threads: 2, monochromatic_nm: None, ..Job::new(scene.settings.clone()) };
+    let (film, _) = render(&scene, &job).unwrap();
+    let rgb: Vec<glam::Vec3> =
+        film.xyz().iter().map(|&xyz| prisma::spectrum::color::xyz_to_linear_srgb(xyz)).collect();
+    let dir = tempfile::tempdir().unwrap();
+    let bytes: Vec<Vec<u8>> = (0..8)
+        .map(|k| {
+            let path = dir.path().join(format!("write{k}.exr"));
+            write_exr(&path, film.width(), film.height(), &rgb, film.xyz()).unwrap();
+            std::fs::read(&path).unwrap()
+        })
+        .collect();
+    for other in &bytes[1..] {
+        assert!(other == &bytes[0], "two writes of the same image differ");
+    }
+}

@@ -5,7 +5,7 @@
 
 use std::path::Path;
 
-use ::exr::meta::attribute::Chromaticities;
+use ::exr::meta::attribute::{Chromaticities, LineOrder};
 use ::exr::prelude::{
     read_all_flat_layers_from_file, AnyChannel, AnyChannels, Encoding, FlatSamples, Image, Layer,
     LayerAttributes, Vec2, WritableImage,
@@ -38,7 +38,9 @@ pub fn write_exr(
     let layer = Layer::new(
         (width as usize, height as usize),
         LayerAttributes::default(),
-        Encoding::FAST_LOSSLESS,
+        // Blocks in increasing order: with the default unspecified order the crate writes the
+        // blocks it compresses in parallel as they finish, so two writes of one image differed.
+        Encoding { line_order: LineOrder::Increasing, ..Encoding::FAST_LOSSLESS },
         channels,
     );
     let mut image = Image::from_layer(layer);
