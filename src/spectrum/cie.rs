@@ -23,10 +23,23 @@ use super::{SampledSpectrum, SampledWavelengths, LAMBDA_MAX_NM, LAMBDA_MIN_NM, N
 /// interpolated ȳ that [`cmf`] returns (so the Monte Carlo estimate of [`to_xyz`] is unbiased for
 /// the same normalisation): 106.856 nm.
 pub fn cie_y_integral() -> f32 {
-    static INTEGRAL_NM: OnceLock<f32> = OnceLock::new();
-    *INTEGRAL_NM.get_or_init(|| {
-        let table = cmf_table();
-        (0..GRID_LEN).map(|i| trapezoid_weight_nm(i) * table[i].y as f64).sum::<f64>() as f32
+    observer().y_integral_nm
+}
+
+/// The colour-matching table with its ȳ integral, behind one initialisation check (the hot path
+/// reads both for every camera sample).
+struct Observer {
+    cmf: &'static [Vec3A; GRID_LEN],
+    y_integral_nm: f32,
+}
+
+fn observer() -> &'static Observer {
+    static OBSERVER: OnceLock<Observer> = OnceLock::new();
+    OBSERVER.get_or_init(|| {
+        let cmf = cmf_table();
+        let y_integral_nm =
+            (0..GRID_LEN).map(|i| trapezoid_weight_nm(i) * cmf[i].y as f64).sum::<f64>() as f32;
+        Observer { cmf, y_integral_nm }
     })
 }
 
@@ -50,25 +63,21 @@ pub fn to_xyz(radiance: &SampledSpectrum, wavelengths: &SampledWavelengths) -> V
         return Vec3::splat(radiance[0]);
     }
     let active = wavelengths.active();
-    let table = cmf_table();
+    let observer = observer();
     let grid = wavelengths.grid();
     // Every lane's weight L/p at once (inactive lanes 0), then the interpolated CMFs: the lanes'
     // grid positions were computed with their wavelengths, so this is `cmf` without finding the
     // positions again.
-    let weights: [f32; N_LAMBDA] = std::array::from_fn(|lane| {
+    // (Selects rather than branches, so that the lanes run as one vector.)
+    let mut weights = [0.0f32; N_LAMBDA];
+    for (lane, weight) in weights.iter_mut().enumerate() {
         let pdf_per_nm = wavelengths.pdf_per_nm(lane);
         debug_assert!(lane >= active || pdf_per_nm > 0.0, "active lane {lane} has pdf {pdf_per_nm}");
-        if lane < active {
-            radiance[lane] / pdf_per_nm
-        } else {
-            0.0
-        }
-    });
-    let mut sum = Vec3A::ZERO;
-    for (position, weight) in grid.iter().zip(weights) {
-        sum += position.lerp_vec3(table) * weight;
+        let quotient = radiance[lane] / if lane < active { pdf_per_nm } else { 1.0 };
+        *weight = if lane < active { quotient } else { 0.0 };
     }
-    Vec3::from(sum / (active as f32 * cie_y_integral()))
+    let sum = grid.weighted_sum_vec3(observer.cmf, &weights);
+    Vec3::from(sum / (active as f32 * observer.y_integral_nm))
 }
 
 /// CIE XYZ of the spectral function `value_at(λ)` (λ in nm) under the same normalisation as

@@ -19,7 +19,7 @@
 //! `absorption`) becomes one of these; nothing is written differently.
 
 use super::tables::{grid_lambda_nm, GridPosition, GRID_LEN};
-use super::{SampledSpectrum, SampledWavelengths, Spectrum, N_LAMBDA};
+use super::{SampledSpectrum, SampledWavelengths, Spectrum};
 
 /// A spectrum tabulated at every whole nm from 360 to 830 nm, or a constant.
 #[derive(Clone, Debug, PartialEq)]
@@ -49,7 +49,7 @@ impl DenseSpectrum {
     pub fn eval(&self, lambda_nm: f32) -> f32 {
         match self {
             Self::Constant(value) => *value,
-            Self::Table(table) => GridPosition::of(lambda_nm).lerp(table.as_slice()),
+            Self::Table(table) => GridPosition::of(lambda_nm).lerp(table),
         }
     }
 
@@ -60,9 +60,7 @@ impl DenseSpectrum {
             Self::Constant(value) => SampledSpectrum::splat(*value),
             Self::Table(table) => {
                 let grid = wavelengths.grid();
-                SampledSpectrum {
-                    values: std::array::from_fn::<_, N_LAMBDA, _>(|i| grid[i].lerp(table.as_slice())),
-                }
+                SampledSpectrum { values: grid.lerp(table) }
             }
         }
     }
@@ -79,6 +77,7 @@ impl DenseSpectrum {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::spectrum::N_LAMBDA;
 
     /// At whole nanometres the table holds the defining spectrum's values exactly; between them
     /// a smooth spectrum (an RGB sigmoid, a blackbody) is within 3e-4 relative, and D65 (defined

@@ -14,7 +14,7 @@ use std::sync::OnceLock;
 
 use glam::Vec3A;
 
-use super::LAMBDA_MIN_NM;
+use super::{LAMBDA_MIN_NM, N_LAMBDA};
 
 /// Number of 1 nm grid points from 360 to 830 nm inclusive.
 pub(crate) const GRID_LEN: usize = 471;
@@ -37,8 +37,7 @@ pub(crate) fn trapezoid_weight_nm(i: usize) -> f64 {
 }
 
 /// Where a wavelength falls on the grid: the index of the grid point below it and the weight of
-/// the one above, for linear interpolation of any per-grid-point table. Computed once per camera
-/// sample and lane ([`super::SampledWavelengths`]) and shared by every table looked up there.
+/// the one above, for linear interpolation of any per-grid-point table.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct GridPosition {
     /// Grid index below the wavelength, in 0..GRID_LEN − 1.
@@ -50,7 +49,7 @@ pub(crate) struct GridPosition {
 impl GridPosition {
     /// The position of `lambda_nm`, clamped to 360–830 nm (so a table extends constantly beyond
     /// its ends). NaN maps to the first grid point.
-    #[inline]
+    #[inline(always)]
     pub(crate) fn of(lambda_nm: f32) -> Self {
         let offset_nm = (lambda_nm - LAMBDA_MIN_NM).clamp(0.0, (GRID_LEN - 1) as f32);
         // `min` keeps λ = 830 nm inside the last interval; NaN converts to 0. (Through i32:
@@ -62,47 +61,102 @@ impl GridPosition {
 
     /// `table` (one value per grid point) interpolated at this position.
     #[inline(always)]
-    pub(crate) fn lerp(self, table: &[f32]) -> f32 {
-        let lower = self.lower as usize;
-        let (a, b) = (table[lower], table[lower + 1]);
-        a + self.t * (b - a)
+    pub(crate) fn lerp(self, table: &[f32; GRID_LEN]) -> f32 {
+        lerp_at(self.lower, self.t, table)
     }
 
     /// `table` of 3-vectors interpolated at this position.
     #[inline(always)]
-    pub(crate) fn lerp_vec3(self, table: &[Vec3A]) -> Vec3A {
-        let lower = self.lower as usize;
-        table[lower].lerp(table[lower + 1], self.t)
+    pub(crate) fn lerp_vec3(self, table: &[Vec3A; GRID_LEN]) -> Vec3A {
+        lerp_vec3_at(self.lower, self.t, table)
     }
+}
+
+/// The grid positions of the [`N_LAMBDA`] wavelengths of a camera sample, by coordinate, so that
+/// finding them and every table lookup at them run lane-parallel. Computed once per camera sample
+/// ([`super::SampledWavelengths`]) and shared by every table looked up for it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct GridPositions {
+    /// Each lane's [`GridPosition`] `lower`.
+    lower: [u32; N_LAMBDA],
+    /// Each lane's [`GridPosition`] `t`.
+    t: [f32; N_LAMBDA],
+}
+
+impl GridPositions {
+    /// The positions of `lambda_nm`, lane by lane as [`GridPosition::of`].
+    #[inline]
+    pub(crate) fn of(lambda_nm: &[f32; N_LAMBDA]) -> Self {
+        let mut positions = Self { lower: [0; N_LAMBDA], t: [0.0; N_LAMBDA] };
+        for (lane, &lambda_nm) in lambda_nm.iter().enumerate() {
+            let GridPosition { lower, t } = GridPosition::of(lambda_nm);
+            positions.lower[lane] = lower;
+            positions.t[lane] = t;
+        }
+        positions
+    }
+
+    /// Lane `lane`'s position.
+    #[cfg(test)]
+    pub(crate) fn lane(&self, lane: usize) -> GridPosition {
+        GridPosition { lower: self.lower[lane], t: self.t[lane] }
+    }
+
+    /// `table` interpolated at every lane.
+    #[inline(always)]
+    pub(crate) fn lerp(&self, table: &[f32; GRID_LEN]) -> [f32; N_LAMBDA] {
+        std::array::from_fn(|lane| lerp_at(self.lower[lane], self.t[lane], table))
+    }
+
+    /// `Σ_lane weights[lane] · table(λ_lane)` for a table of 3-vectors.
+    #[inline(always)]
+    pub(crate) fn weighted_sum_vec3(&self, table: &[Vec3A; GRID_LEN], weights: &[f32; N_LAMBDA]) -> Vec3A {
+        let mut sum = Vec3A::ZERO;
+        for lane in 0..N_LAMBDA {
+            sum += lerp_vec3_at(self.lower[lane], self.t[lane], table) * weights[lane];
+        }
+        sum
+    }
+}
+
+/// `table` interpolated between grid points `lower` and `lower + 1` with weight `t` on the upper.
+/// (`lower` is clamped again so that the compiler drops the bounds checks.)
+#[inline(always)]
+fn lerp_at(lower: u32, t: f32, table: &[f32; GRID_LEN]) -> f32 {
+    let lower = (lower as usize).min(GRID_LEN - 2);
+    let (a, b) = (table[lower], table[lower + 1]);
+    a + t * (b - a)
+}
+
+/// [`lerp_at`] for a table of 3-vectors.
+#[inline(always)]
+fn lerp_vec3_at(lower: u32, t: f32, table: &[Vec3A; GRID_LEN]) -> Vec3A {
+    let lower = (lower as usize).min(GRID_LEN - 2);
+    table[lower].lerp(table[lower + 1], t)
 }
 
 /// The CIE 1931 2° colour-matching functions (x̄, ȳ, z̄) at each grid point, as 16-byte vectors
 /// (`Vec3A`), so that an interpolation is two vector loads and vector arithmetic.
-pub(crate) fn cmf_table() -> &'static [Vec3A] {
-    static TABLE: OnceLock<Vec<Vec3A>> = OnceLock::new();
+pub(crate) fn cmf_table() -> &'static [Vec3A; GRID_LEN] {
+    static TABLE: OnceLock<[Vec3A; GRID_LEN]> = OnceLock::new();
     TABLE.get_or_init(|| {
         parse_grid::<3>("data/cie1931_2deg.csv", include_str!("../../data/cie1931_2deg.csv"))
-            .into_iter()
             .map(Vec3A::from_array)
-            .collect()
     })
 }
 
 /// The relative spectral power of CIE illuminant D65 at each grid point (100 at 560 nm).
-pub(crate) fn d65_table() -> &'static [f32] {
-    static TABLE: OnceLock<Vec<f32>> = OnceLock::new();
+pub(crate) fn d65_table() -> &'static [f32; GRID_LEN] {
+    static TABLE: OnceLock<[f32; GRID_LEN]> = OnceLock::new();
     TABLE.get_or_init(|| {
-        parse_grid::<1>("data/cie_d65.csv", include_str!("../../data/cie_d65.csv"))
-            .into_iter()
-            .map(|[power]| power)
-            .collect()
+        parse_grid::<1>("data/cie_d65.csv", include_str!("../../data/cie_d65.csv")).map(|[power]| power)
     })
 }
 
 /// Parses a CSV table whose first column is the wavelength in nm on the shared grid, followed by
 /// `C` value columns. Lines starting with `#` are comments; the first other line is the column
 /// header. Panics (naming `file` and the line) on anything else, since the tables are embedded.
-fn parse_grid<const C: usize>(file: &str, text: &str) -> Vec<[f32; C]> {
+fn parse_grid<const C: usize>(file: &str, text: &str) -> [[f32; C]; GRID_LEN] {
     let mut rows = Vec::with_capacity(GRID_LEN);
     let mut header_seen = false;
     for (line_index, line) in text.lines().enumerate() {
@@ -137,8 +191,9 @@ fn parse_grid<const C: usize>(file: &str, text: &str) -> Vec<[f32; C]> {
         assert!(fields.next().is_none(), "{file}:{line_no}: more than {} value columns", C);
         rows.push(values);
     }
-    assert!(rows.len() == GRID_LEN, "{file}: {} rows, expected {GRID_LEN} (360–830 nm at 1 nm)", rows.len());
-    rows
+    rows.try_into().unwrap_or_else(|rows: Vec<_>| {
+        panic!("{file}: {} rows, expected {GRID_LEN} (360–830 nm at 1 nm)", rows.len())
+    })
 }
 
 #[cfg(test)]

@@ -48,7 +48,7 @@
 
 use std::sync::LazyLock;
 
-use super::tables::GridPosition;
+use super::tables::GridPositions;
 use super::{SampledSpectrum, LAMBDA_MAX_NM, LAMBDA_MIN_NM, N_LAMBDA};
 
 /// Centre of the visible-importance density, in nm.
@@ -123,13 +123,20 @@ pub fn visible_pdf_per_nm(lambda_nm: f32) -> f32 {
 /// lane with uniform number `u` in [0, 1), and that segment's density (per nm).
 #[inline]
 pub fn sample_visible_lambda_nm(u: f32) -> (f32, f32) {
+    segment_sample(&VISIBLE_TABLE, u)
+}
+
+/// [`sample_visible_lambda_nm`] with the table at hand (the camera sample's lanes look it up
+/// once).
+#[inline(always)]
+fn segment_sample(table: &[Segment; SEGMENTS], u: f32) -> (f32, f32) {
     debug_assert!((0.0..=1.0).contains(&u), "u = {u} outside [0, 1]");
     let scaled = u * SEGMENTS as f32;
     // `min` keeps u = 1 (and rounding just below it) in the last segment. (Through i32: x86-64
     // converts f32 to i32 in one instruction, to usize in about fifteen.)
     let segment = (scaled as i32 as usize).min(SEGMENTS - 1);
     let within = scaled - segment as f32;
-    let Segment { start_nm, width_nm, pdf_per_nm } = VISIBLE_TABLE[segment];
+    let Segment { start_nm, width_nm, pdf_per_nm } = table[segment];
     ((start_nm + within * width_nm).min(LAMBDA_MAX_NM), pdf_per_nm)
 }
 
@@ -141,7 +148,7 @@ pub fn sample_visible_lambda_nm(u: f32) -> (f32, f32) {
 pub struct SampledWavelengths {
     lambda_nm: [f32; N_LAMBDA],
     pdf_per_nm: [f32; N_LAMBDA],
-    grid: [GridPosition; N_LAMBDA],
+    grid: GridPositions,
     active: usize,
     monochromatic: bool,
 }
@@ -160,15 +167,19 @@ impl SampledWavelengths {
         // arithmetic around the table loads. The product can round up to 1 for count = 3, which
         // the table lookup keeps in its last segment.
         let step = 1.0 / count as f32;
-        let u_lanes: [f32; N_LAMBDA] =
-            std::array::from_fn(|lane| if lane < count { (u + lane as f32) * step } else { u * step });
-        let sampled = u_lanes.map(sample_visible_lambda_nm);
-        let lambda_nm = sampled.map(|(lambda_nm, _)| lambda_nm);
-        let pdf_per_nm = std::array::from_fn(|lane| if lane < count { sampled[lane].1 } else { 0.0 });
+        let table = &*VISIBLE_TABLE;
+        let mut lambda_nm = [0.0; N_LAMBDA];
+        let mut pdf_per_nm = [0.0; N_LAMBDA];
+        for lane in 0..N_LAMBDA {
+            let offset = if lane < count { lane as f32 } else { 0.0 };
+            let (lane_nm, lane_pdf) = segment_sample(table, (u + offset) * step);
+            lambda_nm[lane] = lane_nm;
+            pdf_per_nm[lane] = if lane < count { lane_pdf } else { 0.0 };
+        }
         Self {
             lambda_nm,
             pdf_per_nm,
-            grid: lambda_nm.map(GridPosition::of),
+            grid: GridPositions::of(&lambda_nm),
             active: count,
             monochromatic: false,
         }
@@ -180,7 +191,7 @@ impl SampledWavelengths {
         Self {
             lambda_nm: [lambda_nm; N_LAMBDA],
             pdf_per_nm: pdf,
-            grid: [GridPosition::of(lambda_nm); N_LAMBDA],
+            grid: GridPositions::of(&[lambda_nm; N_LAMBDA]),
             active: 1,
             monochromatic: true,
         }
@@ -199,7 +210,7 @@ impl SampledWavelengths {
     }
     /// Where each lane's wavelength falls on the 1 nm table grid (clamped to 360–830 nm).
     #[inline]
-    pub(crate) fn grid(&self) -> &[GridPosition; N_LAMBDA] {
+    pub(crate) fn grid(&self) -> &GridPositions {
         &self.grid
     }
     /// Number of active lanes (lanes `0..active`).
@@ -215,13 +226,16 @@ impl SampledWavelengths {
     /// 1 on active lanes, 0 on the others: the starting throughput of a camera ray.
     #[inline]
     pub fn active_mask(&self) -> SampledSpectrum {
-        SampledSpectrum { values: std::array::from_fn(|i| if i < self.active { 1.0 } else { 0.0 }) }
+        let mut values = [0.0; N_LAMBDA];
+        values[..self.active].fill(1.0);
+        SampledSpectrum { values }
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::spectrum::tables::GridPosition;
     use rand_core::{RngCore, SeedableRng};
 
     /// Composite Simpson's rule of `f` over [a, b] with `intervals` (even) sub-intervals.
@@ -318,7 +332,7 @@ mod tests {
                 for lane in 0..N_LAMBDA {
                     let lambda_nm = wavelengths.lambda_nm(lane);
                     assert!((360.0..=830.0).contains(&lambda_nm), "λ = {lambda_nm}");
-                    assert_eq!(wavelengths.grid()[lane], GridPosition::of(lambda_nm));
+                    assert_eq!(wavelengths.grid().lane(lane), GridPosition::of(lambda_nm));
                     let pdf = wavelengths.pdf_per_nm(lane);
                     if lane < count {
                         let u_lane = (u + lane as f32) * (1.0 / count as f32);
