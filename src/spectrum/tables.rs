@@ -112,8 +112,8 @@ impl GridPositions {
     #[inline(always)]
     pub(crate) fn weighted_sum_vec3(&self, table: &[Vec3A; GRID_LEN], weights: &[f32; N_LAMBDA]) -> Vec3A {
         let mut sum = Vec3A::ZERO;
-        for lane in 0..N_LAMBDA {
-            sum += lerp_vec3_at(self.lower[lane], self.t[lane], table) * weights[lane];
+        for (lane, weight) in weights.iter().enumerate() {
+            sum += lerp_vec3_at(self.lower[lane], self.t[lane], table) * *weight;
         }
         sum
     }
