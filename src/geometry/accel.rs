@@ -17,7 +17,7 @@
 use glam::Vec3;
 
 use super::aabb::Aabb;
-use super::bvh::{Bvh, BvhPrimitive, BvhStats};
+use super::bvh::{Bvh, BvhPrimitive, BvhStats, LEAF_BLOCK};
 use super::packet::{pack_leaf, quad_uv, Lane, Packet, PlanePacket};
 use super::triangle::{ShearedRay, TriangleHit};
 use super::{Hit, Mesh, Ray, Shape};
@@ -66,7 +66,15 @@ impl Geometry {
                 assert!(exists, "shape {index} is triangle {tri} of mesh {mesh}, which does not exist");
             }
             match shape.bounds(&meshes) {
-                Some(bounds) => primitives.push(BvhPrimitive { id: index as u32, bounds }),
+                Some(bounds) => {
+                    // Lanes of a 4-wide packet test: spheres are tested one by one.
+                    let lanes = match shape {
+                        Shape::Sphere(_) => LEAF_BLOCK as u32,
+                        Shape::Quad(_) => 2,
+                        _ => 1,
+                    };
+                    primitives.push(BvhPrimitive { id: index as u32, bounds, lanes });
+                }
                 None => match shape {
                     Shape::Plane(plane) => planes.push((index as u32, *plane)),
                     _ => unreachable!("only planes are unbounded"),

@@ -8,8 +8,10 @@
 //!   bounds on each axis, all three axes binned in one pass (I. Wald, "On fast Construction of
 //!   SAH-based Bounding Volume Hierarchies", *IEEE Symposium on Interactive Ray Tracing* 2007).
 //!   The caller intersects primitives [`LEAF_BLOCK`] at a time, so the SAH counts a leaf's cost
-//!   in such blocks (as Embree does for its 4-triangle leaves): one to four primitives cost the
-//!   same, and leaves fill up to four. Leaves hold at most [`MAX_LEAF_PRIMITIVES`]. Subtrees of
+//!   in such blocks (as Embree does for its 4-triangle leaves): one to four triangles cost the
+//!   same, and leaves fill up to four. A primitive says how many lanes of a block it takes
+//!   ([`BvhPrimitive::lanes`]): a sphere, tested on its own, takes a whole block, so two
+//!   spheres are worth separate boxes. Leaves hold at most [`MAX_LEAF_PRIMITIVES`]. Subtrees of
 //!   more than `PARALLEL_BUILD_MIN` primitives are built in parallel (`rayon::join`). When
 //!   every centroid coincides the node is split by count; a depth cap forces median splits
 //!   before any subtree could grow deeper than [`MAX_DEPTH`], so the build stays O(n log n).
@@ -80,14 +82,18 @@ const STACK_SIZE: usize = (WIDTH - 1) * MAX_DEPTH + 1;
 /// computed interval a superset of the true one.
 const ROBUST_EXIT_SCALE: f32 = 1.0 + 2.0 * gamma(3);
 
-/// A primitive to build over: its id (reported back in leaf order by [`Bvh::build`]) and its
-/// bounds.
+/// A primitive to build over: its id (reported back in leaf order by [`Bvh::build`]), its
+/// bounds, and its share of a leaf's intersection cost.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BvhPrimitive {
     /// Caller's identifier (prisma: the index of the shape).
     pub id: u32,
     /// Bounding box (scene units).
     pub bounds: Aabb,
+    /// Lanes it takes in the caller's [`LEAF_BLOCK`]-wide tests (prisma: 1 for a triangle, 2 for
+    /// a quad, [`LEAF_BLOCK`] for a sphere, which is tested alone). The SAH counts a leaf's cost
+    /// as its lanes in blocks of [`LEAF_BLOCK`].
+    pub lanes: u32,
 }
 
 /// One node: the boxes of up to four children, 128 bytes.
@@ -631,7 +637,8 @@ fn choose_split(items: &mut [BvhPrimitive], bounds: &Aabb, centroids: &Aabb, dep
         return Some(median_split(items, axis));
     };
     let area = bounds.surface_area();
-    if count <= MAX_LEAF_PRIMITIVES && blocks(count) * area <= TRAVERSAL_COST * area + best.cost {
+    let lanes = items.iter().map(|item| item.lanes).sum();
+    if count <= MAX_LEAF_PRIMITIVES && blocks(lanes) * area <= TRAVERSAL_COST * area + best.cost {
         return None;
     }
     let binning = Binning::new(centroids);
@@ -694,10 +701,10 @@ struct BinnedSplit {
     cost: f32,
 }
 
-/// The intersection cost of `count` primitives, in blocks of [`LEAF_BLOCK`].
+/// The intersection cost of primitives taking `lanes` lanes, in blocks of [`LEAF_BLOCK`].
 #[inline]
-fn blocks(count: usize) -> f32 {
-    count.div_ceil(LEAF_BLOCK) as f32
+fn blocks(lanes: u32) -> f32 {
+    lanes.div_ceil(LEAF_BLOCK as u32) as f32
 }
 
 /// The cheapest SAH split over all axes and bin boundaries with primitives on both sides.
@@ -706,13 +713,15 @@ fn blocks(count: usize) -> f32 {
 fn best_binned_split(items: &[BvhPrimitive], centroids: &Aabb) -> Option<BinnedSplit> {
     let binning = Binning::new(centroids);
     // One pass over the primitives fills the bins of all three axes.
-    let mut bins = [[(Aabb::EMPTY, 0usize); BIN_COUNT]; 3];
+    // Each bin: bounds, primitives, lanes.
+    let mut bins = [[(Aabb::EMPTY, 0usize, 0u32); BIN_COUNT]; 3];
     for item in items {
         let centroid = item.bounds.centroid().to_array();
         for (axis, axis_bins) in bins.iter_mut().enumerate() {
             let bin = &mut axis_bins[binning.bin(centroid[axis], axis)];
             bin.0 = bin.0.union(item.bounds);
             bin.1 += 1;
+            bin.2 += item.lanes;
         }
     }
     let mut best: Option<BinnedSplit> = None;
@@ -722,20 +731,21 @@ fn best_binned_split(items: &[BvhPrimitive], centroids: &Aabb) -> Option<BinnedS
         }
         // right_cost[i]: area × blocks of bins i+1.. (the second child when splitting after bin i).
         let mut right_cost = [0.0f32; BIN_COUNT];
-        let (mut right_bounds, mut right_count) = (Aabb::EMPTY, 0);
+        let (mut right_bounds, mut right_lanes) = (Aabb::EMPTY, 0);
         for i in (1..BIN_COUNT).rev() {
             right_bounds = right_bounds.union(bins[i].0);
-            right_count += bins[i].1;
-            right_cost[i - 1] = right_bounds.surface_area() * blocks(right_count);
+            right_lanes += bins[i].2;
+            right_cost[i - 1] = right_bounds.surface_area() * blocks(right_lanes);
         }
-        let (mut left_bounds, mut left_count) = (Aabb::EMPTY, 0);
-        for (i, &(bin_bounds, bin_count)) in bins.iter().enumerate().take(BIN_COUNT - 1) {
+        let (mut left_bounds, mut left_count, mut left_lanes) = (Aabb::EMPTY, 0, 0);
+        for (i, &(bin_bounds, bin_count, bin_lanes)) in bins.iter().enumerate().take(BIN_COUNT - 1) {
             left_bounds = left_bounds.union(bin_bounds);
             left_count += bin_count;
+            left_lanes += bin_lanes;
             if left_count == 0 || left_count == items.len() {
                 continue;
             }
-            let cost = left_bounds.surface_area() * blocks(left_count) + right_cost[i];
+            let cost = left_bounds.surface_area() * blocks(left_lanes) + right_cost[i];
             if best.as_ref().is_none_or(|best| cost < best.cost) {
                 best = Some(BinnedSplit { axis, last_left_bin: i, cost });
             }
@@ -756,7 +766,11 @@ mod tests {
             .map(|id| {
                 let centre = rng.point_in(Vec3::splat(-100.0), Vec3::splat(100.0));
                 let half = rng.point_in(Vec3::ZERO, Vec3::splat(2.0));
-                BvhPrimitive { id: id as u32, bounds: Aabb { min: centre - half, max: centre + half } }
+                BvhPrimitive {
+                    id: id as u32,
+                    bounds: Aabb { min: centre - half, max: centre + half },
+                    lanes: 1,
+                }
             })
             .collect()
     }
@@ -842,7 +856,7 @@ mod tests {
         // a balanced binary tree of depth ⌈log₂(10000 / 8)⌉ = 11, which the collapse turns into
         // 4-wide nodes of two binary levels each: leaves at depth ⌈11 / 2⌉ = 6.
         let unit = Aabb { min: Vec3::ZERO, max: Vec3::ONE };
-        let primitives: Vec<_> = (0..10_000).map(|id| BvhPrimitive { id, bounds: unit }).collect();
+        let primitives: Vec<_> = (0..10_000).map(|id| BvhPrimitive { id, bounds: unit, lanes: 1 }).collect();
         let stats = check_structure(&primitives);
         assert_eq!(stats.max_depth, 6);
     }
@@ -870,7 +884,7 @@ mod tests {
         let mut six: Vec<_> = cluster(0.0)
             .chain(cluster(100.0))
             .enumerate()
-            .map(|(id, bounds)| BvhPrimitive { id: id as u32, bounds })
+            .map(|(id, bounds)| BvhPrimitive { id: id as u32, bounds, lanes: 1 })
             .collect();
         let (bounds, centroids) = bounds_and_centroid_bounds(&six);
         assert_eq!(choose_split(&mut six, &bounds, &centroids, 0), Some(3));
@@ -906,6 +920,7 @@ mod tests {
                         min: Vec3::new(start, 0.0, 0.0),
                         max: Vec3::new(1.15 * start, start, start),
                     },
+                    lanes: 1,
                 }
             })
             .collect();
@@ -965,6 +980,7 @@ mod tests {
                     min: Vec3::new(10.0 * i as f32, 0.0, 0.0),
                     max: Vec3::new(10.0 * i as f32 + 1.0, 1.0, 1.0),
                 },
+                lanes: 1,
             })
             .collect();
         let (bvh, ids) = Bvh::build(primitives.clone());
