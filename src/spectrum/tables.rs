@@ -51,12 +51,11 @@ impl GridPosition {
     /// its ends). NaN maps to the first grid point.
     #[inline(always)]
     pub(crate) fn of(lambda_nm: f32) -> Self {
-        let offset_nm = (lambda_nm - LAMBDA_MIN_NM).clamp(0.0, (GRID_LEN - 1) as f32);
-        // `min` keeps λ = 830 nm inside the last interval; NaN converts to 0. (Through i32:
-        // x86-64 converts f32 to i32 in one instruction, to u32 in several.)
-        let lower = (offset_nm as i32 as u32).min(GRID_LEN as u32 - 2);
-        let t = offset_nm - lower as f32;
-        Self { lower, t: if t.is_nan() { 0.0 } else { t } }
+        // `max` first: it maps NaN to 0.
+        let offset_nm = (lambda_nm - LAMBDA_MIN_NM).max(0.0).min((GRID_LEN - 1) as f32);
+        // λ = 830 nm stays inside the last interval (t = 1).
+        let lower = floor_index(offset_nm, GRID_LEN as u32 - 2);
+        Self { lower, t: offset_nm - lower as f32 }
     }
 
     /// `table` (one value per grid point) interpolated at this position.
@@ -117,6 +116,19 @@ impl GridPositions {
         }
         sum
     }
+}
+
+/// ⌊`x`⌋ clamped to 0..=`max` (NaN gives 0), for table indices: one conversion instruction, where
+/// Rust's saturating `as` takes several and keeps the lanes of a sample from running as one
+/// vector.
+#[inline(always)]
+pub(crate) fn floor_index(x: f32, max: u32) -> u32 {
+    debug_assert!(max < 1 << 24, "{max} is not exact in f32");
+    // `max` first: it maps NaN to 0.
+    let clamped = x.max(0.0).min(max as f32);
+    // SAFETY: `clamped` is a finite value in [0, max], inside i32's range, so the truncation is
+    // defined.
+    unsafe { clamped.to_int_unchecked::<i32>() as u32 }
 }
 
 /// `table` interpolated between grid points `lower` and `lower + 1` with weight `t` on the upper.

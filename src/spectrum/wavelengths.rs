@@ -48,7 +48,7 @@
 
 use std::sync::LazyLock;
 
-use super::tables::GridPositions;
+use super::tables::{floor_index, GridPositions};
 use super::{SampledSpectrum, LAMBDA_MAX_NM, LAMBDA_MIN_NM, N_LAMBDA};
 
 /// Centre of the visible-importance density, in nm.
@@ -132,9 +132,8 @@ pub fn sample_visible_lambda_nm(u: f32) -> (f32, f32) {
 fn segment_sample(table: &[Segment; SEGMENTS], u: f32) -> (f32, f32) {
     debug_assert!((0.0..=1.0).contains(&u), "u = {u} outside [0, 1]");
     let scaled = u * SEGMENTS as f32;
-    // `min` keeps u = 1 (and rounding just below it) in the last segment. (Through i32: x86-64
-    // converts f32 to i32 in one instruction, to usize in about fifteen.)
-    let segment = (scaled as i32 as usize).min(SEGMENTS - 1);
+    // u = 1 (and rounding just below it) stays in the last segment.
+    let segment = floor_index(scaled, SEGMENTS as u32 - 1) as usize;
     let within = scaled - segment as f32;
     let Segment { start_nm, width_nm, pdf_per_nm } = table[segment];
     ((start_nm + within * width_nm).min(LAMBDA_MAX_NM), pdf_per_nm)
