@@ -12,7 +12,7 @@ use rayon::prelude::*;
 
 use crate::film::Film;
 use crate::integrator::{Fault, TraceStats, Whitted};
-use crate::sampler::PixelRng;
+use crate::sampler::{PixelKey, PixelRng};
 use crate::scene::{RenderSettings, Scene};
 use crate::spectrum::{cie, SampledWavelengths};
 
@@ -138,8 +138,9 @@ fn render_tile(scene: &Scene, integrator: &Whitted, job: &Job, x0: u32, y0: u32)
     for y in y0..(y0 + TILE).min(height) {
         for x in x0..(x0 + TILE).min(width) {
             let mut sum = [0f64; 3];
+            let key = PixelKey::new(settings.seed, x, y);
             for sample in 0..settings.spp {
-                let mut rng = PixelRng::new(settings.seed, x, y, sample);
+                let mut rng = PixelRng::for_sample(key, sample);
                 // The position first: the sampler's first two dimensions are stratified jointly.
                 let (jx, jy) = (rng.uniform(), rng.uniform());
                 let u_lambda = rng.uniform();

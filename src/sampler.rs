@@ -37,12 +37,43 @@ pub struct PixelRng {
     used: usize,
 }
 
+/// What the samples of one pixel under one seed share: the key their scrambles derive from,
+/// and the scramble seed of the pixel's first Sobol sequence (samples 0 to 2¹⁶ − 1), so that a
+/// render hashes once per pixel rather than once per sample.
+#[derive(Clone, Copy, Debug)]
+pub struct PixelKey {
+    key: u64,
+    first_sequence_seed: u32,
+}
+
+impl PixelKey {
+    /// The key of pixel (`x`, `y`) under `seed`.
+    pub fn new(seed: u64, x: u32, y: u32) -> Self {
+        let pixel = (u64::from(y) << 32) | u64::from(x);
+        let key = mix64(mix64(seed ^ 0x51_7cc1_b727_220a) ^ pixel);
+        Self { key, first_sequence_seed: Self::sequence_seed(key, 0) }
+    }
+
+    /// The scramble seed of the pixel's sequence number `sequence` (samples from
+    /// `sequence`·2¹⁶ on).
+    fn sequence_seed(key: u64, sequence: u32) -> u32 {
+        (mix64(key ^ u64::from(sequence)) >> 32) as u32
+    }
+}
+
 impl PixelRng {
     /// The values of sample `sample` of pixel (`x`, `y`) under `seed`.
     pub fn new(seed: u64, x: u32, y: u32, sample: u32) -> Self {
-        let pixel = (u64::from(y) << 32) | u64::from(x);
-        let key = mix64(mix64(seed ^ 0x51_7cc1_b727_220a) ^ pixel) ^ u64::from(sample / SEQUENCE_POINTS);
-        let sequence_seed = (mix64(key) >> 32) as u32;
+        Self::for_sample(PixelKey::new(seed, x, y), sample)
+    }
+
+    /// The values of sample `sample` of the pixel of `key`: the same as [`Self::new`] for that
+    /// pixel and seed.
+    #[inline]
+    pub fn for_sample(key: PixelKey, sample: u32) -> Self {
+        let sequence = sample / SEQUENCE_POINTS;
+        let sequence_seed =
+            if sequence == 0 { key.first_sequence_seed } else { PixelKey::sequence_seed(key.key, sequence) };
         let index = sample % SEQUENCE_POINTS;
         Self {
             index,

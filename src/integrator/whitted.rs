@@ -259,33 +259,37 @@ impl<'a> Whitted<'a> {
         } else {
             (-hit.normal, -hit.shading_normal)
         };
-        let albedo_over_pi = diffuse.albedo.sample(wavelengths) * std::f32::consts::FRAC_1_PI;
         let mut radiance = SampledSpectrum::zero();
         for light in &self.scene.lights {
-            match light {
-                Light::Point(point) => {
-                    if let Some(sample) = point.sample(hit.point, wavelengths) {
-                        radiance +=
-                            self.shadowed(diffuse, hit, normal, shading_normal, to_viewer, sample, stats);
-                    }
-                }
+            // The unoccluded samples' weights first; the light's spectrum once, if any is lit.
+            let weight = match light {
+                Light::Point(point) => point.sample(hit.point).map_or(0.0, |sample| {
+                    self.shadowed(diffuse, hit, normal, shading_normal, to_viewer, sample, stats)
+                }),
                 Light::Quad(quad) => {
                     let count = self.area_light_samples;
                     let shift = (rng.uniform(), rng.uniform());
-                    for index in 0..count {
-                        if let Some(sample) = quad.sample(hit.point, index, count, shift, wavelengths) {
-                            radiance +=
-                                self.shadowed(diffuse, hit, normal, shading_normal, to_viewer, sample, stats);
-                        }
-                    }
+                    (0..count)
+                        .filter_map(|index| quad.sample(hit.point, index, count, shift))
+                        .map(|sample| {
+                            self.shadowed(diffuse, hit, normal, shading_normal, to_viewer, sample, stats)
+                        })
+                        .sum()
                 }
+            };
+            if weight > 0.0 {
+                radiance += light.emitted().sample(wavelengths) * weight;
             }
         }
-        radiance * albedo_over_pi
+        if radiance.is_zero() {
+            return radiance;
+        }
+        radiance * (diffuse.albedo.sample(wavelengths) * std::f32::consts::FRAC_1_PI)
     }
 
-    /// One light sample's contribution (before the albedo/π factor), zero when occluded or below
-    /// the horizon.
+    /// One light sample's weight for the light's emitted spectrum (before the albedo/π factor):
+    /// its [`crate::light::LightSample::weight`] times cos θ and the diffuse shape factor, zero when
+    /// occluded or below the horizon.
     #[allow(clippy::too_many_arguments)] // small hot-path helper; a struct would only rename the same values
     fn shadowed(
         &self,
@@ -296,16 +300,16 @@ impl<'a> Whitted<'a> {
         to_viewer: Vec3,
         sample: crate::light::LightSample,
         stats: &mut TraceStats,
-    ) -> SampledSpectrum {
+    ) -> f32 {
         let cos_theta = shading_normal.dot(sample.to_light);
         if cos_theta <= 0.0 || normal.dot(sample.to_light) <= 0.0 {
-            return SampledSpectrum::zero();
+            return 0.0;
         }
         stats.rays += 1;
         let shadow = Ray::new(spawn_origin(hit.point, normal, sample.to_light), sample.to_light);
         if self.scene.geometry.occluded(&shadow, sample.distance * (1.0 - SHADOW_RAY_SHORTENING)) {
-            return SampledSpectrum::zero();
+            return 0.0;
         }
-        sample.incident * (cos_theta * diffuse.shape_factor(shading_normal, sample.to_light, to_viewer))
+        sample.weight * cos_theta * diffuse.shape_factor(shading_normal, sample.to_light, to_viewer)
     }
 }

@@ -10,7 +10,7 @@ use glam::Vec3;
 pub use point::PointLight;
 pub use quad::QuadLight;
 
-use crate::spectrum::SampledSpectrum;
+use crate::spectrum::DenseSpectrum;
 
 /// A light source.
 #[derive(Debug, Clone)]
@@ -21,6 +21,17 @@ pub enum Light {
     Quad(QuadLight),
 }
 
+impl Light {
+    /// The emitted spectrum that a [`LightSample::weight`] scales: the intensity of a point light
+    /// (W·sr⁻¹·nm⁻¹), the radiance of a quad light (W·m⁻²·sr⁻¹·nm⁻¹).
+    pub fn emitted(&self) -> &DenseSpectrum {
+        match self {
+            Light::Point(point) => &point.intensity,
+            Light::Quad(quad) => &quad.radiance,
+        }
+    }
+}
+
 /// One sample of incident light at a shading point, before visibility.
 #[derive(Debug, Clone, Copy)]
 pub struct LightSample {
@@ -28,8 +39,10 @@ pub struct LightSample {
     pub to_light: Vec3,
     /// Distance to the light sample (scene units).
     pub distance: f32,
-    /// Irradiance contribution divided by cos θ at the receiver, i.e. the incident radiance times
-    /// the solid angle this sample stands for (W·m⁻²·nm⁻¹ per unit cos θ): `I/d²` for a point
-    /// light, `L·cos θ_l·A/(d²·n)` for one of `n` quad samples.
-    pub incident: SampledSpectrum,
+    /// What the sample contributes per unit of the light's emitted spectrum and of cos θ at the
+    /// receiver: the incident irradiance over cos θ is `weight` times the light's
+    /// [`Light::emitted`] spectrum. `1/d²` (m⁻²) for a point light of intensity I (so I/d²), and
+    /// `cos θ_l·A/(d²·n)` (sr) for one of `n` samples of a quad light of radiance L. The spectrum
+    /// is left out so that it is looked up once per light, and only when a sample is unoccluded.
+    pub weight: f32,
 }

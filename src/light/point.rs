@@ -12,7 +12,7 @@
 use glam::Vec3;
 
 use super::LightSample;
-use crate::spectrum::{DenseSpectrum, SampledWavelengths};
+use crate::spectrum::DenseSpectrum;
 
 /// An isotropic point light.
 #[derive(Debug, Clone)]
@@ -25,17 +25,13 @@ pub struct PointLight {
 
 impl PointLight {
     /// The light arriving at `point`; `None` when `point` is at the light's position.
-    pub fn sample(&self, point: Vec3, wavelengths: &SampledWavelengths) -> Option<LightSample> {
+    pub fn sample(&self, point: Vec3) -> Option<LightSample> {
         let offset = self.position - point;
         let distance_sq = offset.length_squared();
         if distance_sq <= 0.0 || !distance_sq.is_finite() {
             return None;
         }
         let distance = distance_sq.sqrt();
-        Some(LightSample {
-            to_light: offset / distance,
-            distance,
-            incident: self.intensity.sample(wavelengths) / distance_sq,
-        })
+        Some(LightSample { to_light: offset / distance, distance, weight: 1.0 / distance_sq })
     }
 }

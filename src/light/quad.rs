@@ -18,7 +18,7 @@ use glam::Vec3;
 
 use super::LightSample;
 use crate::geometry::Quad;
-use crate::spectrum::{DenseSpectrum, SampledWavelengths};
+use crate::spectrum::DenseSpectrum;
 
 /// A one-sided quad area light.
 #[derive(Debug, Clone)]
@@ -34,14 +34,7 @@ pub struct QuadLight {
 impl QuadLight {
     /// Sample `index` of `count` stratified points, rotated by the random offsets `shift` in
     /// [0, 1)², as seen from `point`. `None` when the sample faces away from `point`.
-    pub fn sample(
-        &self,
-        point: Vec3,
-        index: u32,
-        count: u32,
-        shift: (f32, f32),
-        wavelengths: &SampledWavelengths,
-    ) -> Option<LightSample> {
+    pub fn sample(&self, point: Vec3, index: u32, count: u32, shift: (f32, f32)) -> Option<LightSample> {
         let (u, v) = hammersley(index, count, shift);
         let on_light = self.quad.point_at(u, v);
         let offset = on_light - point;
@@ -56,7 +49,7 @@ impl QuadLight {
             return None;
         }
         let solid_angle = self.quad.area() * cos_light / (distance_sq * count as f32);
-        Some(LightSample { to_light, distance, incident: self.radiance.sample(wavelengths) * solid_angle })
+        Some(LightSample { to_light, distance, weight: solid_angle })
     }
 
     /// True when a ray travelling along `dir` sees the emitting side.
@@ -110,12 +103,11 @@ mod tests {
             + y / (1.0 + y * y).sqrt() * (x / (1.0 + y * y).sqrt()).atan())
             / (2.0 * std::f64::consts::PI);
         let expected = std::f64::consts::PI * form_factor;
-        let wavelengths = SampledWavelengths::monochromatic(550.0);
         let count = 4096;
         let mut irradiance = 0.0f64;
         for k in 0..count {
-            if let Some(s) = light.sample(Vec3::ZERO, k, count, (0.3, 0.7), &wavelengths) {
-                irradiance += f64::from(s.incident[0] * s.to_light.z);
+            if let Some(s) = light.sample(Vec3::ZERO, k, count, (0.3, 0.7)) {
+                irradiance += f64::from(light.radiance.eval(550.0) * s.weight * s.to_light.z);
             }
         }
         assert!((irradiance - expected).abs() < 1e-3 * expected, "{irradiance} vs {expected}");
@@ -128,8 +120,7 @@ mod tests {
             emit_normal: Vec3::Z,
             radiance: DenseSpectrum::constant(1.0),
         };
-        let wavelengths = SampledWavelengths::monochromatic(550.0);
-        assert!(light.sample(Vec3::ZERO, 0, 1, (0.0, 0.0), &wavelengths).is_none());
-        assert!(light.sample(Vec3::new(0.0, 0.0, 2.0), 0, 1, (0.0, 0.0), &wavelengths).is_some());
+        assert!(light.sample(Vec3::ZERO, 0, 1, (0.0, 0.0)).is_none());
+        assert!(light.sample(Vec3::new(0.0, 0.0, 2.0), 0, 1, (0.0, 0.0)).is_some());
     }
 }
