@@ -29,7 +29,10 @@
 //!   is known (any-hit traversal skips the sort and stops at the first hit). The nodes of
 //!   pushed children are prefetched, so that their fetch from memory overlaps with the work on
 //!   the nearer ones (about +10 % on incoherent rays through a 1M-triangle mesh, measured
-//!   interleaved on a noisy machine).
+//!   interleaved on a noisy machine). The traversal loop is compiled once per direction octant
+//!   (a const parameter), so that which plane of each axis a ray meets first is a constant and
+//!   not a row index held in a register: 11–13 % fewer instructions per ray on the mesh, about
+//!   10 % more rays per second, where the indices had been spilled to the stack.
 //! * **Robust slab test** (T. Ize, "Robust BVH Ray Traversal", *JCGT* 2(2), 2013): the exit
 //!   distance is enlarged by 1 + 2·γ(3) so that rounding in `(bound − origin)·(1/dir)` never
 //!   makes a ray miss a box that holds the primitive it hits. A direction component of ±0 gives
@@ -279,20 +282,42 @@ impl Bvh {
     pub fn closest_hit(
         &self,
         ray: &Ray,
-        mut t_max: f32,
+        t_max: f32,
         mut intersect: impl FnMut(u32, u32, f32) -> Option<f32>,
     ) -> bool {
         if self.nodes.is_empty() {
             return false;
         }
         let boxes = RayBoxes::new(ray);
+        let f = &mut intersect;
+        match boxes.octant() {
+            0 => self.closest_in::<0>(&boxes, t_max, f),
+            1 => self.closest_in::<1>(&boxes, t_max, f),
+            2 => self.closest_in::<2>(&boxes, t_max, f),
+            3 => self.closest_in::<3>(&boxes, t_max, f),
+            4 => self.closest_in::<4>(&boxes, t_max, f),
+            5 => self.closest_in::<5>(&boxes, t_max, f),
+            6 => self.closest_in::<6>(&boxes, t_max, f),
+            _ => self.closest_in::<7>(&boxes, t_max, f),
+        }
+    }
+
+    /// [`Self::closest_hit`] for a ray of direction octant `OCTANT` (bit a set: negative along
+    /// axis a), so that the near and far planes of each axis are known at compile time.
+    #[inline(always)]
+    fn closest_in<const OCTANT: usize>(
+        &self,
+        boxes: &RayBoxes,
+        mut t_max: f32,
+        intersect: &mut impl FnMut(u32, u32, f32) -> Option<f32>,
+    ) -> bool {
         let mut stack = Stack::new();
         let mut current = Pending { child: 0, count: 0, entry: 0.0 };
         let mut found = false;
         loop {
             if current.count == 0 {
                 let node = &self.nodes[current.child as usize];
-                let (entry, mask) = boxes.enter(node, t_max);
+                let (entry, mask) = boxes.enter::<OCTANT>(node, t_max);
                 let entry = entry.to_array();
                 // The entered children are visited nearest first: the nearest now, the others
                 // pushed farthest first. One or two children are the common cases.
@@ -388,12 +413,33 @@ impl Bvh {
             return false;
         }
         let boxes = RayBoxes::new(ray);
+        let f = &mut intersect;
+        match boxes.octant() {
+            0 => self.any_in::<0>(&boxes, t_max, f),
+            1 => self.any_in::<1>(&boxes, t_max, f),
+            2 => self.any_in::<2>(&boxes, t_max, f),
+            3 => self.any_in::<3>(&boxes, t_max, f),
+            4 => self.any_in::<4>(&boxes, t_max, f),
+            5 => self.any_in::<5>(&boxes, t_max, f),
+            6 => self.any_in::<6>(&boxes, t_max, f),
+            _ => self.any_in::<7>(&boxes, t_max, f),
+        }
+    }
+
+    /// [`Self::any_hit`] for a ray of direction octant `OCTANT` (see [`Self::closest_in`]).
+    #[inline(always)]
+    fn any_in<const OCTANT: usize>(
+        &self,
+        boxes: &RayBoxes,
+        t_max: f32,
+        intersect: &mut impl FnMut(u32, u32, f32) -> bool,
+    ) -> bool {
         let mut stack = Stack::new();
         let mut current = Pending { child: 0, count: 0, entry: 0.0 };
         loop {
             if current.count == 0 {
                 let node = &self.nodes[current.child as usize];
-                let (_, mut mask) = boxes.enter(node, t_max);
+                let (_, mut mask) = boxes.enter::<OCTANT>(node, t_max);
                 if mask != 0 {
                     let no_entry = [0.0; WIDTH];
                     let first = mask.trailing_zeros() as usize;
@@ -456,43 +502,55 @@ impl Stack {
     }
 }
 
-/// A ray prepared for 4-wide slab tests: its origin, the componentwise inverse of its direction
-/// (±∞ for zero components), each splat over four lanes, and for each axis which plane of a box
-/// it meets first.
+/// A ray prepared for 4-wide slab tests: its origin and the componentwise inverse of its
+/// direction (±∞ for zero components), each splat over four lanes, and the octant of its
+/// direction, which decides which plane of a box it meets first on each axis.
 #[derive(Clone, Copy, Debug)]
 struct RayBoxes {
     origin: [Vec4; 3],
     inv_dir: [Vec4; 3],
-    /// Row of [`Node::planes`] holding the near plane of each axis: the min plane when the
-    /// direction component is positive (or +0), the max plane when it is negative (or −0), whose
-    /// inverse is −∞ and for which the max plane is met first.
-    near: [usize; 3],
+    /// Bit a set when the direction is negative (or −0) along axis a: the ray then meets the max
+    /// plane of each box first on that axis (the inverse of −0 is −∞).
+    octant: usize,
 }
 
 impl RayBoxes {
     #[inline]
     fn new(ray: &Ray) -> Self {
         let dir = ray.dir.to_array();
-        let near = std::array::from_fn(|axis| 2 * axis + usize::from(dir[axis].is_sign_negative()));
         let origin = ray.origin.to_array().map(Vec4::splat);
-        Self { origin, inv_dir: dir.map(|d| Vec4::splat(1.0 / d)), near }
+        Self {
+            origin,
+            inv_dir: dir.map(|d| Vec4::splat(1.0 / d)),
+            octant: ray.dir.is_negative_bitmask() as usize,
+        }
+    }
+
+    /// The octant, 0..8.
+    #[inline]
+    fn octant(&self) -> usize {
+        self.octant & 7
     }
 
     /// The distances at which the ray enters the four child boxes of `node` (clamped to 0 when
     /// it starts inside), and a mask of the boxes it overlaps for some t in [0, `t_max`] (bit
-    /// i: child i). Conservative: may report a box the ray just misses, never misses a box the
-    /// ray enters.
+    /// i: child i), for a ray of octant `OCTANT` (which must be [`Self::octant`]). Conservative:
+    /// may report a box the ray just misses, never misses a box the ray enters.
     ///
     /// A slab distance of 0·∞ = NaN (the ray runs inside a slab plane) constrains nothing: the
     /// running entry and exit distances are replaced only where the comparison with the new one
     /// holds, which it never does for NaN (x86 compiles these selects to `maxps` / `minps`).
     #[inline(always)]
-    fn enter(&self, node: &Node, t_max: f32) -> (Vec4, u32) {
+    fn enter<const OCTANT: usize>(&self, node: &Node, t_max: f32) -> (Vec4, u32) {
+        debug_assert_eq!(OCTANT, self.octant());
         let mut entry = Vec4::ZERO;
         let mut exit = Vec4::INFINITY;
         for axis in 0..3 {
-            let near = (node.planes[self.near[axis]] - self.origin[axis]) * self.inv_dir[axis];
-            let far = (node.planes[self.near[axis] ^ 1] - self.origin[axis]) * self.inv_dir[axis];
+            // Row of `Node::planes` of the near plane: min for a positive direction, max for a
+            // negative one.
+            let near_row = 2 * axis + ((OCTANT >> axis) & 1);
+            let near = (node.planes[near_row] - self.origin[axis]) * self.inv_dir[axis];
+            let far = (node.planes[near_row ^ 1] - self.origin[axis]) * self.inv_dir[axis];
             entry = larger_unless_nan(near, entry);
             exit = smaller_unless_nan(far, exit);
         }
@@ -1034,7 +1092,17 @@ mod tests {
     fn enter_one(bounds: Aabb, ray: Ray, t_max: f32) -> Option<f32> {
         let mut node = Node::EMPTY;
         node.set_bounds(0, &bounds);
-        let (entry, mask) = RayBoxes::new(&ray).enter(&node, t_max);
+        let boxes = RayBoxes::new(&ray);
+        let (entry, mask) = match boxes.octant() {
+            0 => boxes.enter::<0>(&node, t_max),
+            1 => boxes.enter::<1>(&node, t_max),
+            2 => boxes.enter::<2>(&node, t_max),
+            3 => boxes.enter::<3>(&node, t_max),
+            4 => boxes.enter::<4>(&node, t_max),
+            5 => boxes.enter::<5>(&node, t_max),
+            6 => boxes.enter::<6>(&node, t_max),
+            _ => boxes.enter::<7>(&node, t_max),
+        };
         assert_eq!(mask & !1, 0, "unused slots are never entered");
         (mask & 1 == 1).then_some(entry[0])
     }
