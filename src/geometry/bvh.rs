@@ -52,6 +52,47 @@ use super::aabb::Aabb;
 use super::rounding::gamma;
 use super::Ray;
 
+/// `$body` with the constant `$octant` equal to `$value` (a direction octant, 0..8): one
+/// compiled copy of `$body` per octant.
+macro_rules! by_octant {
+    ($value:expr, $octant:ident => $body:expr) => {
+        match $value {
+            0 => {
+                const $octant: usize = 0;
+                $body
+            }
+            1 => {
+                const $octant: usize = 1;
+                $body
+            }
+            2 => {
+                const $octant: usize = 2;
+                $body
+            }
+            3 => {
+                const $octant: usize = 3;
+                $body
+            }
+            4 => {
+                const $octant: usize = 4;
+                $body
+            }
+            5 => {
+                const $octant: usize = 5;
+                $body
+            }
+            6 => {
+                const $octant: usize = 6;
+                $body
+            }
+            _ => {
+                const $octant: usize = 7;
+                $body
+            }
+        }
+    };
+}
+
 /// Most primitives in one leaf.
 pub const MAX_LEAF_PRIMITIVES: usize = 8;
 
@@ -290,16 +331,7 @@ impl Bvh {
         }
         let boxes = RayBoxes::new(ray);
         let f = &mut intersect;
-        match boxes.octant() {
-            0 => self.closest_in::<0>(&boxes, t_max, f),
-            1 => self.closest_in::<1>(&boxes, t_max, f),
-            2 => self.closest_in::<2>(&boxes, t_max, f),
-            3 => self.closest_in::<3>(&boxes, t_max, f),
-            4 => self.closest_in::<4>(&boxes, t_max, f),
-            5 => self.closest_in::<5>(&boxes, t_max, f),
-            6 => self.closest_in::<6>(&boxes, t_max, f),
-            _ => self.closest_in::<7>(&boxes, t_max, f),
-        }
+        by_octant!(boxes.octant(), O => self.closest_in::<O>(&boxes, t_max, f))
     }
 
     /// [`Self::closest_hit`] for a ray of direction octant `OCTANT` (bit a set: negative along
@@ -414,16 +446,7 @@ impl Bvh {
         }
         let boxes = RayBoxes::new(ray);
         let f = &mut intersect;
-        match boxes.octant() {
-            0 => self.any_in::<0>(&boxes, t_max, f),
-            1 => self.any_in::<1>(&boxes, t_max, f),
-            2 => self.any_in::<2>(&boxes, t_max, f),
-            3 => self.any_in::<3>(&boxes, t_max, f),
-            4 => self.any_in::<4>(&boxes, t_max, f),
-            5 => self.any_in::<5>(&boxes, t_max, f),
-            6 => self.any_in::<6>(&boxes, t_max, f),
-            _ => self.any_in::<7>(&boxes, t_max, f),
-        }
+        by_octant!(boxes.octant(), O => self.any_in::<O>(&boxes, t_max, f))
     }
 
     /// [`Self::any_hit`] for a ray of direction octant `OCTANT` (see [`Self::closest_in`]).
@@ -1093,16 +1116,7 @@ mod tests {
         let mut node = Node::EMPTY;
         node.set_bounds(0, &bounds);
         let boxes = RayBoxes::new(&ray);
-        let (entry, mask) = match boxes.octant() {
-            0 => boxes.enter::<0>(&node, t_max),
-            1 => boxes.enter::<1>(&node, t_max),
-            2 => boxes.enter::<2>(&node, t_max),
-            3 => boxes.enter::<3>(&node, t_max),
-            4 => boxes.enter::<4>(&node, t_max),
-            5 => boxes.enter::<5>(&node, t_max),
-            6 => boxes.enter::<6>(&node, t_max),
-            _ => boxes.enter::<7>(&node, t_max),
-        };
+        let (entry, mask) = by_octant!(boxes.octant(), O => boxes.enter::<O>(&node, t_max));
         assert_eq!(mask & !1, 0, "unused slots are never entered");
         (mask & 1 == 1).then_some(entry[0])
     }
