@@ -5,6 +5,7 @@
 
 pub mod camera;
 pub mod film;
+mod float_index;
 pub mod geometry;
 pub mod integrator;
 pub mod light;

@@ -51,6 +51,7 @@ use glam::Vec4;
 use super::aabb::Aabb;
 use super::rounding::gamma;
 use super::Ray;
+use crate::float_index::floor_index;
 
 /// `$body` with the constant `$octant` equal to `$value` (a direction octant, 0..8): one
 /// compiled copy of `$body` per octant.
@@ -765,12 +766,12 @@ impl Binning {
         }
     }
 
-    /// The bin of the centroid coordinate `centroid` along `axis` (the float-to-int cast
-    /// saturates, so out-of-range and NaN values land in the first or last bin).
+    /// The bin of the centroid coordinate `centroid` along `axis` (out-of-range values land in
+    /// the first or last bin, NaN in the first).
     #[inline]
     fn bin(&self, centroid: f32, axis: usize) -> usize {
         let position = (centroid - self.origin[axis]) * self.scale[axis];
-        (position as usize).min(BIN_COUNT - 1)
+        floor_index(position, BIN_COUNT as u32 - 1) as usize
     }
 }
 

@@ -15,6 +15,7 @@ use std::sync::OnceLock;
 use glam::Vec3A;
 
 use super::{LAMBDA_MIN_NM, N_LAMBDA};
+use crate::float_index::floor_index;
 
 /// Number of 1 nm grid points from 360 to 830 nm inclusive.
 pub(crate) const GRID_LEN: usize = 471;
@@ -116,19 +117,6 @@ impl GridPositions {
         }
         sum
     }
-}
-
-/// ⌊`x`⌋ clamped to 0..=`max` (NaN gives 0), for table indices: one conversion instruction, where
-/// Rust's saturating `as` takes several and keeps the lanes of a sample from running as one
-/// vector.
-#[inline(always)]
-pub(crate) fn floor_index(x: f32, max: u32) -> u32 {
-    debug_assert!(max < 1 << 24, "{max} is not exact in f32");
-    // `max` first: it maps NaN to 0.
-    let clamped = x.max(0.0).min(max as f32);
-    // SAFETY: `clamped` is a finite value in [0, max], inside i32's range, so the truncation is
-    // defined.
-    unsafe { clamped.to_int_unchecked::<i32>() as u32 }
 }
 
 /// `table` interpolated between grid points `lower` and `lower + 1` with weight `t` on the upper.

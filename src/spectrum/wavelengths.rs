@@ -48,8 +48,9 @@
 
 use std::sync::LazyLock;
 
-use super::tables::{floor_index, GridPositions};
+use super::tables::GridPositions;
 use super::{SampledSpectrum, LAMBDA_MAX_NM, LAMBDA_MIN_NM, N_LAMBDA};
+use crate::float_index::floor_index;
 
 /// Centre of the visible-importance density, in nm.
 const VISIBLE_CENTRE_NM: f64 = 538.0;
