@@ -33,6 +33,7 @@ struct Observer {
     y_integral_nm: f32,
 }
 
+/// The observer's tables, computed on first use.
 fn observer() -> &'static Observer {
     static OBSERVER: OnceLock<Observer> = OnceLock::new();
     OBSERVER.get_or_init(|| {
