@@ -17,8 +17,8 @@
 use glam::Vec3;
 
 use super::aabb::Aabb;
-use super::bvh::{Bvh, BvhPrimitive, BvhStats, LEAF_BLOCK};
-use super::packet::{pack_leaf, quad_uv, Lane, Packet, PlanePacket};
+use super::bvh::{Bvh, BvhPrimitive, BvhStats};
+use super::packet::{leaf_lanes, pack_leaf, quad_uv, Lane, Packet, PlanePacket};
 use super::triangle::{ShearedRay, TriangleHit};
 use super::{Hit, Mesh, Ray, Shape};
 
@@ -67,13 +67,7 @@ impl Geometry {
             }
             match shape.bounds(&meshes) {
                 Some(bounds) => {
-                    // Lanes of a 4-wide packet test: spheres are tested one by one.
-                    let lanes = match shape {
-                        Shape::Sphere(_) => LEAF_BLOCK as u32,
-                        Shape::Quad(_) => 2,
-                        _ => 1,
-                    };
-                    primitives.push(BvhPrimitive { id: index as u32, bounds, lanes });
+                    primitives.push(BvhPrimitive { id: index as u32, bounds, lanes: leaf_lanes(shape) })
                 }
                 None => match shape {
                     Shape::Plane(plane) => planes.push((index as u32, *plane)),

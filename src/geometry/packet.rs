@@ -241,6 +241,18 @@ impl PlanePacket {
     }
 }
 
+/// The lanes `shape` takes in the 4-wide tests of a leaf as [`pack_leaf`] packs it (the BVH's
+/// cost model, [`super::bvh::BvhPrimitive::lanes`]): a triangle one, a quad its two halves, a
+/// sphere a whole packet's worth, since spheres are tested one by one.
+pub(crate) fn leaf_lanes(shape: &super::Shape) -> u32 {
+    use super::Shape;
+    match shape {
+        Shape::Sphere(_) => LANES as u32,
+        Shape::Quad(_) => 2,
+        Shape::Triangle { .. } | Shape::Plane(_) => 1,
+    }
+}
+
 /// Packs the shapes `(id, shape)` of one leaf, in order: triangles and quads (two lanes each)
 /// into triangle packets, spheres into sphere packets. `triangle_of(id)` gives the vertices of a
 /// mesh triangle. Appends to `packets`.
