@@ -17,7 +17,8 @@
 use glam::Vec3;
 
 use super::aabb::Aabb;
-use super::bvh::{Bvh, BvhPrimitive, BvhStats};
+use super::bvh::{Bvh, BvhPrimitive, BvhStats, PACKET_RAYS};
+use super::mesh::flat_hit_record;
 use super::packet::{leaf_lanes, pack_leaf, quad_uv, Lane, Packet, PlanePacket};
 use super::triangle::{ShearedRay, TriangleHit};
 use super::{Hit, Mesh, Ray, Shape};
@@ -77,7 +78,10 @@ impl Geometry {
         }
         let (mut bvh, ids) = Bvh::build(primitives);
         let triangle_of = |id: u32| match shapes[id as usize] {
-            Shape::Triangle { mesh, tri } => meshes[mesh as usize].triangle(tri),
+            Shape::Triangle { mesh, tri } => {
+                let mesh = &meshes[mesh as usize];
+                (mesh.triangle(tri), mesh.normals.is_some())
+            }
             _ => unreachable!("only triangles are looked up in meshes"),
         };
         // Each leaf, in leaf order, becomes its own run of packets.
@@ -95,11 +99,80 @@ impl Geometry {
             let leaf = leaves.binary_search_by_key(&first, |&(first, _)| first).expect("a leaf of the BVH");
             runs[leaf]
         });
+        let packets = super::huge_pages::on_huge_pages(packets);
         Self { shapes, meshes, planes: PlanePacket::pack(&planes), bvh, packets }
     }
 
     /// The nearest hit with t in (0, `t_max`).
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
+        let (nearest_plane, t_limit) = self.nearest_plane(ray, t_max);
+        // Prepared on the first triangle packet: rays that meet only spheres never need it.
+        let mut sheared: Option<ShearedRay> = None;
+        let mut nearest: Option<Nearest> = None;
+        let found = self.bvh.closest_hit(ray, t_limit, |first, count, t_limit| {
+            self.nearest_in_leaf(ray, &mut sheared, first, count, t_limit, &mut nearest)
+        });
+        if found {
+            nearest.and_then(|nearest| self.hit_record(nearest))
+        } else {
+            nearest_plane
+        }
+    }
+
+    /// The nearest hits of up to [`PACKET_RAYS`] rays traced together (`hits[i]` for `rays[i]`
+    /// with `t_max[i]`): what [`Self::intersect`] finds for each, but with one visit of a BVH
+    /// node for all the rays that enter it, which pays for coherent rays (neighbouring camera
+    /// rays: see [`super::bvh`]'s packet traversal). Among hits at exactly the same distance,
+    /// the one reported may differ from [`Self::intersect`]'s.
+    ///
+    /// # Panics
+    /// If `rays` holds more than [`PACKET_RAYS`] rays, or `t_max` or `hits` another number.
+    pub fn intersect_packet(&self, rays: &[Ray], t_max: &[f32], hits: &mut [Option<Hit>]) {
+        let count = rays.len();
+        assert!(count <= PACKET_RAYS, "{count} rays: a packet holds at most {PACKET_RAYS}");
+        assert!(t_max.len() == count && hits.len() == count, "one t_max and one hit per ray");
+        let Some(&first) = rays.first() else {
+            return;
+        };
+        let packet: [Ray; PACKET_RAYS] = std::array::from_fn(|lane| rays.get(lane).copied().unwrap_or(first));
+        let lanes = Bvh::coherent_lanes(&packet, (1u32 << count) - 1);
+        for lane in (0..count).filter(|&lane| lanes & (1 << lane) == 0) {
+            hits[lane] = self.intersect(&rays[lane], t_max[lane]);
+        }
+        if lanes == 0 {
+            return;
+        }
+        let mut nearest_plane = [None; PACKET_RAYS];
+        let mut t_limit = [0.0; PACKET_RAYS];
+        for lane in 0..count {
+            (nearest_plane[lane], t_limit[lane]) = self.nearest_plane(&packet[lane], t_max[lane]);
+        }
+        let mut sheared = [None; PACKET_RAYS];
+        let mut nearest = [None; PACKET_RAYS];
+        let found =
+            self.bvh.closest_hit_packet(&packet, lanes, &mut t_limit, |lane, first, leaf, t_limit| {
+                self.nearest_in_leaf(
+                    &packet[lane],
+                    &mut sheared[lane],
+                    first,
+                    leaf,
+                    t_limit,
+                    &mut nearest[lane],
+                )
+            });
+        for (lane, hit) in hits.iter_mut().enumerate().filter(|&(lane, _)| lanes & (1 << lane) != 0) {
+            *hit = if found & (1 << lane) != 0 {
+                nearest[lane].and_then(|nearest| self.hit_record(nearest))
+            } else {
+                nearest_plane[lane]
+            };
+        }
+    }
+
+    /// The nearest infinite plane hit with t in (0, `t_max`), and the distance the BVH search
+    /// must then beat (its t, or `t_max`).
+    #[inline]
+    fn nearest_plane(&self, ray: &Ray, t_max: f32) -> (Option<Hit>, f32) {
         let mut nearest_plane: Option<Hit> = None;
         let mut t_limit = t_max;
         for packet in &self.planes {
@@ -112,45 +185,51 @@ impl Geometry {
                 }
             }
         }
-        // Prepared on the first triangle packet: rays that meet only spheres never need it.
-        let mut sheared: Option<ShearedRay> = None;
-        let mut nearest: Option<Nearest> = None;
-        let found = self.bvh.closest_hit(ray, t_limit, |first, count, mut t_limit| {
-            let mut found = None;
-            for index in first..first + count {
-                let packet = &self.packets[index as usize];
-                if packet.holds_spheres() {
-                    for lane in 0..super::packet::LANES {
-                        if packet.lane(lane) != Lane::Sphere {
-                            continue;
-                        }
-                        if let Some(hit) = packet.sphere(lane).intersect(ray, t_limit, packet.id(lane)) {
-                            t_limit = hit.t;
-                            found = Some(hit.t);
-                            nearest = Some(Nearest::Sphere(hit));
-                        }
+        (nearest_plane, t_limit)
+    }
+
+    /// The leaf test of the nearest-hit search: the packets `first..first + count`, for hits
+    /// closer than `t_limit`. Records the nearest in `nearest` and returns its distance, if
+    /// any; `sheared` is `ray` prepared for triangles, made on the first triangle packet.
+    #[inline(always)]
+    fn nearest_in_leaf(
+        &self,
+        ray: &Ray,
+        sheared: &mut Option<ShearedRay>,
+        first: u32,
+        count: u32,
+        mut t_limit: f32,
+        nearest: &mut Option<Nearest>,
+    ) -> Option<f32> {
+        let mut found = None;
+        for index in first..first + count {
+            let packet = &self.packets[index as usize];
+            if packet.holds_spheres() {
+                for lane in 0..super::packet::LANES {
+                    if packet.lane(lane) != Lane::Sphere {
+                        continue;
                     }
-                    continue;
-                }
-                let sheared = sheared.get_or_insert_with(|| ShearedRay::new(*ray));
-                let mut candidates = packet.candidates(sheared, t_limit);
-                while candidates != 0 {
-                    let lane = candidates.trailing_zeros() as usize;
-                    candidates &= candidates - 1;
-                    if let Some(hit) = packet.intersect_lane(lane, sheared, t_limit) {
+                    if let Some(hit) = packet.sphere(lane).intersect(ray, t_limit, packet.id(lane)) {
                         t_limit = hit.t;
                         found = Some(hit.t);
-                        nearest = Some(Nearest::Triangle { packet: index, lane: lane as u8, hit });
+                        *nearest = Some(Nearest::Sphere(hit));
                     }
                 }
+                continue;
             }
-            found
-        });
-        if found {
-            nearest.and_then(|nearest| self.hit_record(nearest))
-        } else {
-            nearest_plane
+            let sheared = sheared.get_or_insert_with(|| ShearedRay::new(*ray));
+            let mut candidates = packet.candidates(sheared, t_limit);
+            while candidates != 0 {
+                let lane = candidates.trailing_zeros() as usize;
+                candidates &= candidates - 1;
+                if let Some(hit) = packet.intersect_lane(lane, sheared, t_limit) {
+                    t_limit = hit.t;
+                    found = Some(hit.t);
+                    *nearest = Some(Nearest::Triangle { packet: index, lane: lane as u8, hit });
+                }
+            }
         }
+        found
     }
 
     /// The hit record of the nearest BVH candidate (`None` only for a shape without a normal,
@@ -161,6 +240,9 @@ impl Geometry {
             Nearest::Triangle { packet, lane, hit } => (&self.packets[packet as usize], lane as usize, hit),
         };
         let prim = packet.id(lane);
+        if packet.lane(lane) == Lane::FlatTriangle {
+            return flat_hit_record(&packet.vertices(lane), &hit, prim);
+        }
         match (packet.lane(lane), &self.shapes[prim as usize]) {
             (Lane::Triangle, Shape::Triangle { mesh, tri }) => {
                 self.meshes[*mesh as usize].hit_record(*tri, &packet.vertices(lane), &hit, prim)
@@ -180,24 +262,74 @@ impl Geometry {
         }
         let mut sheared: Option<ShearedRay> = None;
         self.bvh.any_hit(ray, t_max, |first, count, t_max| {
-            self.packets[first as usize..(first + count) as usize].iter().any(|packet| {
-                if packet.holds_spheres() {
-                    return (0..super::packet::LANES).any(|lane| {
-                        packet.lane(lane) == Lane::Sphere
-                            && packet.sphere(lane).intersect(ray, t_max, 0).is_some()
-                    });
-                }
-                let sheared = sheared.get_or_insert_with(|| ShearedRay::new(*ray));
-                let mut candidates = packet.candidates(sheared, t_max);
-                while candidates != 0 {
-                    let lane = candidates.trailing_zeros() as usize;
-                    candidates &= candidates - 1;
-                    if packet.intersect_lane(lane, sheared, t_max).is_some() {
-                        return true;
-                    }
-                }
-                false
+            self.occluded_in_leaf(ray, &mut sheared, first, count, t_max)
+        })
+    }
+
+    /// [`Self::occluded`] for up to [`PACKET_RAYS`] rays traced together (`rays[i]` with
+    /// `t_max[i]`): bit i of the result is set when `rays[i]` is occluded. See
+    /// [`Self::intersect_packet`].
+    ///
+    /// # Panics
+    /// If `rays` holds more than [`PACKET_RAYS`] rays, or `t_max` another number.
+    pub fn occluded_packet(&self, rays: &[Ray], t_max: &[f32]) -> u32 {
+        let count = rays.len();
+        assert!(count <= PACKET_RAYS, "{count} rays: a packet holds at most {PACKET_RAYS}");
+        assert_eq!(t_max.len(), count, "one t_max per ray");
+        let Some(&first) = rays.first() else {
+            return 0;
+        };
+        let packet: [Ray; PACKET_RAYS] = std::array::from_fn(|lane| rays.get(lane).copied().unwrap_or(first));
+        let limits: [f32; PACKET_RAYS] = std::array::from_fn(|lane| t_max.get(lane).copied().unwrap_or(0.0));
+        let all = (1u32 << count) - 1;
+        let lanes = Bvh::coherent_lanes(&packet, all);
+        let alone = (0..count)
+            .filter(|&lane| lanes & (1 << lane) == 0 && self.occluded(&rays[lane], t_max[lane]))
+            .fold(0, |mask, lane| mask | 1 << lane);
+        if lanes == 0 {
+            return alone;
+        }
+        let by_planes = (0..count)
+            .filter(|&lane| lanes & (1 << lane) != 0)
+            .filter(|&lane| self.planes.iter().any(|packet| packet.any(&rays[lane], t_max[lane])))
+            .fold(0, |mask, lane| mask | 1 << lane);
+        let mut sheared = [None; PACKET_RAYS];
+        alone
+            | by_planes
+            | self.bvh.any_hit_packet(&packet, lanes & !by_planes, &limits, |lane, first, leaf, t_max| {
+                self.occluded_in_leaf(&packet[lane], &mut sheared[lane], first, leaf, t_max)
             })
+    }
+
+    /// The leaf test of the any-hit search: whether anything in the packets
+    /// `first..first + count` is hit with t in (0, `t_max`); `sheared` as in
+    /// [`Self::nearest_in_leaf`].
+    #[inline(always)]
+    fn occluded_in_leaf(
+        &self,
+        ray: &Ray,
+        sheared: &mut Option<ShearedRay>,
+        first: u32,
+        count: u32,
+        t_max: f32,
+    ) -> bool {
+        self.packets[first as usize..(first + count) as usize].iter().any(|packet| {
+            if packet.holds_spheres() {
+                return (0..super::packet::LANES).any(|lane| {
+                    packet.lane(lane) == Lane::Sphere
+                        && packet.sphere(lane).intersect(ray, t_max, 0).is_some()
+                });
+            }
+            let sheared = sheared.get_or_insert_with(|| ShearedRay::new(*ray));
+            let mut candidates = packet.candidates(sheared, t_max);
+            while candidates != 0 {
+                let lane = candidates.trailing_zeros() as usize;
+                candidates &= candidates - 1;
+                if packet.intersect_lane(lane, sheared, t_max).is_some() {
+                    return true;
+                }
+            }
+            false
         })
     }
 
@@ -483,5 +615,60 @@ mod tests {
                 geometry.intersect(&Ray::new(from, -from.normalize()), f32::INFINITY).expect("closed mesh");
             assert!(hit.t > 8.85 && hit.t < 9.15, "t = {}", hit.t);
         }
+    }
+
+    #[test]
+    fn packets_agree_with_single_rays() {
+        // A soup with a floor plane and a smooth (vertex-normal) mesh besides the flat one:
+        // packets of 1 to 16 rays, coherent fans from one origin and random rays, with random
+        // t_max, give exactly the hit records and occlusions of the rays traced one by one.
+        let mut rng = Rng::new(99);
+        let soup = random_soup(&mut rng, 2_000);
+        let mut shapes = soup.shapes().to_vec();
+        let mut meshes = soup.meshes().to_vec();
+        shapes.push(Shape::Plane(Plane { point: Vec3::new(0.0, -40.0, 0.0), normal: Vec3::Y }));
+        let mut smooth = Mesh::displaced_sphere(24, 48);
+        smooth.normals = Some(smooth.positions.iter().map(|p| p.normalize()).collect());
+        for position in &mut smooth.positions {
+            *position = Vec3::new(10.0, 5.0, -3.0) + 12.0 * *position;
+        }
+        shapes.extend((0..smooth.triangles.len() as u32).map(|tri| Shape::Triangle { mesh: 1, tri }));
+        meshes.push(smooth);
+        let geometry = Geometry::build(shapes, meshes);
+        let mut coherent = 0;
+        for i in 0..600 {
+            let count = 1 + i % PACKET_RAYS;
+            let origin = rng.point_in(Vec3::splat(-80.0), Vec3::splat(80.0));
+            let axis = (rng.point_in(Vec3::splat(-30.0), Vec3::splat(30.0)) - origin).normalize();
+            let rays: Vec<Ray> = (0..count)
+                .map(|_| match i % 3 {
+                    0 => random_ray(&mut rng),
+                    _ => Ray::new(origin, (axis + 0.05 * rng.unit_vector()).normalize()),
+                })
+                .collect();
+            let t_max: Vec<f32> = (0..count)
+                .map(|_| if rng.uniform(0.0, 1.0) < 0.5 { f32::INFINITY } else { rng.uniform(1.0, 150.0) })
+                .collect();
+            let mut hits = vec![None; count];
+            geometry.intersect_packet(&rays, &t_max, &mut hits);
+            let occluded = geometry.occluded_packet(&rays, &t_max);
+            assert_eq!(occluded >> count, 0, "only the packet's lanes");
+            for (lane, ray) in rays.iter().enumerate() {
+                assert_eq!(
+                    hits[lane],
+                    geometry.intersect(ray, t_max[lane]),
+                    "{ray:?}, t_max {}",
+                    t_max[lane]
+                );
+                assert_eq!(occluded & 1 << lane != 0, geometry.occluded(ray, t_max[lane]), "{ray:?}");
+            }
+            let mut full = [*rays.first().expect("a ray"); PACKET_RAYS];
+            full[..count].copy_from_slice(&rays);
+            coherent += Bvh::coherent_lanes(&full, (1 << count) - 1).count_ones();
+        }
+        assert!(coherent > 2_000, "only {coherent} rays traversed in packets");
+        let mut none: [Option<Hit>; 0] = [];
+        geometry.intersect_packet(&[], &[], &mut none);
+        assert_eq!(geometry.occluded_packet(&[], &[]), 0);
     }
 }

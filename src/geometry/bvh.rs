@@ -94,6 +94,9 @@ macro_rules! by_octant {
     };
 }
 
+mod ray_packet;
+pub use ray_packet::PACKET_RAYS;
+
 /// Most primitives in one leaf.
 pub const MAX_LEAF_PRIMITIVES: usize = 8;
 
@@ -273,6 +276,7 @@ impl Bvh {
                 emit(&root, &mut nodes, 0, &mut max_depth);
             }
         }
+        let nodes = super::huge_pages::on_huge_pages(nodes);
         let bvh = Bvh { nodes, primitives: primitives.len(), bounds: Some(bounds), max_depth };
         (bvh, primitives.iter().map(|p| p.id).collect())
     }
@@ -332,20 +336,23 @@ impl Bvh {
         }
         let boxes = RayBoxes::new(ray);
         let f = &mut intersect;
-        by_octant!(boxes.octant(), O => self.closest_in::<O>(&boxes, t_max, f))
+        by_octant!(boxes.octant(), O => self.closest_in::<O>(&boxes, Pending::ROOT, t_max, f).is_some())
     }
 
     /// [`Self::closest_hit`] for a ray of direction octant `OCTANT` (bit a set: negative along
-    /// axis a), so that the near and far planes of each axis are known at compile time.
+    /// axis a), so that the near and far planes of each axis are known at compile time, in the
+    /// subtree `start` (the root, or a child that a packet of rays handed to a single ray:
+    /// [`ray_packet`]). Returns the distance of the nearest hit, if any.
     #[inline(always)]
     fn closest_in<const OCTANT: usize>(
         &self,
         boxes: &RayBoxes,
+        start: Pending,
         mut t_max: f32,
         intersect: &mut impl FnMut(u32, u32, f32) -> Option<f32>,
-    ) -> bool {
+    ) -> Option<f32> {
         let mut stack = Stack::new();
-        let mut current = Pending { child: 0, count: 0, entry: 0.0 };
+        let mut current = start;
         let mut found = false;
         loop {
             if current.count == 0 {
@@ -408,7 +415,7 @@ impl Bvh {
             // Next pending child that a closer hit has not made irrelevant.
             loop {
                 let Some(pending) = stack.pop() else {
-                    return found;
+                    return found.then_some(t_max);
                 };
                 if pending.entry <= t_max {
                     current = pending;
@@ -447,19 +454,21 @@ impl Bvh {
         }
         let boxes = RayBoxes::new(ray);
         let f = &mut intersect;
-        by_octant!(boxes.octant(), O => self.any_in::<O>(&boxes, t_max, f))
+        by_octant!(boxes.octant(), O => self.any_in::<O>(&boxes, Pending::ROOT, t_max, f))
     }
 
-    /// [`Self::any_hit`] for a ray of direction octant `OCTANT` (see [`Self::closest_in`]).
+    /// [`Self::any_hit`] for a ray of direction octant `OCTANT` in the subtree `start` (see
+    /// [`Self::closest_in`]).
     #[inline(always)]
     fn any_in<const OCTANT: usize>(
         &self,
         boxes: &RayBoxes,
+        start: Pending,
         t_max: f32,
         intersect: &mut impl FnMut(u32, u32, f32) -> bool,
     ) -> bool {
         let mut stack = Stack::new();
-        let mut current = Pending { child: 0, count: 0, entry: 0.0 };
+        let mut current = start;
         loop {
             if current.count == 0 {
                 let node = &self.nodes[current.child as usize];
@@ -495,6 +504,11 @@ struct Pending {
     child: u32,
     count: u32,
     entry: f32,
+}
+
+impl Pending {
+    /// The root node, where every traversal starts.
+    const ROOT: Pending = Pending { child: 0, count: 0, entry: 0.0 };
 }
 
 /// The traversal stack. Fixed size and left uninitialised: zeroing its 2.3 kB for every ray
@@ -548,6 +562,13 @@ impl RayBoxes {
             inv_dir: dir.map(|d| Vec4::splat(1.0 / d)),
             octant: ray.dir.is_negative_bitmask() as usize,
         }
+    }
+
+    /// The ray with origin `origin` and inverse direction `inv_dir` (componentwise `1 / dir`),
+    /// whose direction lies in octant `octant`.
+    #[inline]
+    fn from_parts(origin: [f32; 3], inv_dir: [f32; 3], octant: usize) -> Self {
+        Self { origin: origin.map(Vec4::splat), inv_dir: inv_dir.map(Vec4::splat), octant }
     }
 
     /// The octant, 0..8.
@@ -843,7 +864,7 @@ mod tests {
     use super::*;
     use crate::geometry::test_util::Rng;
 
-    fn random_boxes(rng: &mut Rng, count: usize) -> Vec<BvhPrimitive> {
+    pub(super) fn random_boxes(rng: &mut Rng, count: usize) -> Vec<BvhPrimitive> {
         (0..count)
             .map(|id| {
                 let centre = rng.point_in(Vec3::splat(-100.0), Vec3::splat(100.0));

@@ -272,8 +272,8 @@ impl Mesh {
         hit: &TriangleHit,
         prim: u32,
     ) -> Option<Hit> {
-        let [v0, v1, v2] = *vertices;
-        let normal = (v1 - v0).cross(v2 - v0).try_normalize()?;
+        let flat = flat_hit_record(vertices, hit, prim)?;
+        let normal = flat.normal;
         let shading_normal = self
             .normals
             .as_ref()
@@ -284,8 +284,16 @@ impl Mesh {
                     .try_normalize()
             })
             .map_or(normal, |n| if n.dot(normal) < 0.0 { -n } else { n });
-        Some(Hit { t: hit.t, point: hit.point(vertices), normal, shading_normal, prim })
+        Some(Hit { shading_normal, ..flat })
     }
+}
+
+/// The hit record of a hit on the triangle `vertices` (shape `prim`) with the geometric normal
+/// as shading normal, as for a mesh without vertex normals; `None` for a degenerate triangle.
+pub(crate) fn flat_hit_record(vertices: &[Vec3; 3], hit: &TriangleHit, prim: u32) -> Option<Hit> {
+    let [v0, v1, v2] = *vertices;
+    let normal = (v1 - v0).cross(v2 - v0).try_normalize()?;
+    Some(Hit { t: hit.t, point: hit.point(vertices), normal, shading_normal: normal, prim })
 }
 
 /// The 1-based number of the line that ends just before byte `position` (the last line tobj read).

@@ -36,6 +36,7 @@
 pub mod aabb;
 pub mod accel;
 pub mod bvh;
+mod huge_pages;
 pub mod mesh;
 pub mod offset;
 mod packet;
@@ -51,7 +52,7 @@ pub mod triangle;
 
 pub use aabb::Aabb;
 pub use accel::Geometry;
-pub use bvh::BvhStats;
+pub use bvh::{BvhStats, PACKET_RAYS};
 pub use mesh::{Mesh, MeshError};
 pub use offset::spawn_origin;
 pub use plane::Plane;

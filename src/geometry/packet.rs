@@ -32,8 +32,11 @@ pub(crate) const LANES: usize = 4;
 pub(crate) enum Lane {
     /// Nothing (NaN coordinates).
     Empty,
-    /// A mesh triangle.
+    /// A triangle of a mesh with vertex normals (its hit record interpolates them).
     Triangle,
+    /// A triangle of a mesh without vertex normals, whose hit record needs nothing but the
+    /// packet (no look-up of the shape and its mesh: one cache miss less per incoherent ray).
+    FlatTriangle,
     /// The triangle (corner, corner + e1, corner + e1 + e2) of a quad.
     QuadLower,
     /// The triangle (corner, corner + e1 + e2, corner + e2) of a quad.
@@ -255,10 +258,10 @@ pub(crate) fn leaf_lanes(shape: &super::Shape) -> u32 {
 
 /// Packs the shapes `(id, shape)` of one leaf, in order: triangles and quads (two lanes each)
 /// into triangle packets, spheres into sphere packets. `triangle_of(id)` gives the vertices of a
-/// mesh triangle. Appends to `packets`.
+/// mesh triangle and whether its mesh has vertex normals. Appends to `packets`.
 pub(crate) fn pack_leaf<'a>(
     shapes: impl Iterator<Item = (u32, &'a super::Shape)>,
-    triangle_of: impl Fn(u32) -> [Vec3; 3],
+    triangle_of: impl Fn(u32) -> ([Vec3; 3], bool),
     packets: &mut Vec<Packet>,
 ) {
     use super::Shape;
@@ -266,7 +269,10 @@ pub(crate) fn pack_leaf<'a>(
     let mut spheres = Vec::new();
     for (id, shape) in shapes {
         match shape {
-            Shape::Triangle { .. } => triangles.push((id, Lane::Triangle, triangle_of(id))),
+            Shape::Triangle { .. } => {
+                let (vertices, smooth) = triangle_of(id);
+                triangles.push((id, if smooth { Lane::Triangle } else { Lane::FlatTriangle }, vertices));
+            }
             Shape::Quad(quad) => {
                 let [lower, upper] = quad.halves();
                 // Both halves share the quad's normal, edge1 × edge2 (Quad::hit_record).
@@ -282,7 +288,8 @@ pub(crate) fn pack_leaf<'a>(
         let mut packet = Packet::EMPTY;
         for (lane, &(id, kind, vertices)) in chunk.iter().enumerate() {
             let [v0, v1, v2] = vertices;
-            let kind = if kind == Lane::Triangle && (v1 - v0).cross(v2 - v0).try_normalize().is_none() {
+            let mesh_triangle = matches!(kind, Lane::Triangle | Lane::FlatTriangle);
+            let kind = if mesh_triangle && (v1 - v0).cross(v2 - v0).try_normalize().is_none() {
                 Lane::NoNormal
             } else {
                 kind
@@ -335,7 +342,7 @@ mod tests {
         let mut packets = Vec::new();
         pack_leaf(
             shapes.iter().enumerate().map(|(id, s)| (id as u32, s)),
-            |id| mesh.triangle(id),
+            |id| (mesh.triangle(id), false),
             &mut packets,
         );
         packets
