@@ -171,7 +171,7 @@ impl Geometry {
 
     /// The nearest infinite plane hit with t in (0, `t_max`), and the distance the BVH search
     /// must then beat (its t, or `t_max`).
-    #[inline]
+    #[inline(always)]
     fn nearest_plane(&self, ray: &Ray, t_max: f32) -> (Option<Hit>, f32) {
         let mut nearest_plane: Option<Hit> = None;
         let mut t_limit = t_max;
