@@ -9,7 +9,9 @@
 //!   then the [`bvh`] (binned SAH, 4-wide nodes tested with 4-wide vector arithmetic, robust
 //!   slab test) over the rest, whose leaves hold the shapes copied into 4-wide packets
 //!   (`packet`). `Hit::prim` is the index of the shape in the list given to
-//!   [`Geometry::build`].
+//!   [`Geometry::build`]. [`Geometry::intersect_packet`] and [`Geometry::occluded_packet`]
+//!   trace up to [`PACKET_RAYS`] coherent rays together (the BVH's packet traversal), with
+//!   the same answers as ray by ray.
 //! * [`offset`]: [`spawn_origin`] for secondary rays.
 //!
 //! # Decisions
