@@ -603,7 +603,7 @@ mod tests {
         let geometry = Geometry::build(shapes, vec![mesh]);
         let stats = geometry.bvh_stats();
         assert_eq!(stats.primitives, 20_000);
-        // Nodes: 128 bytes for every ~3 leaves of up to 8 triangles, about 12 bytes per
+        // Nodes: 256 bytes for every ~5 leaves of up to 8 triangles, about 14 bytes per
         // triangle. Packets: 176 bytes per 4 lanes, about 44 per triangle when full; leaves
         // whose size is not a multiple of 4 leave lanes empty (46 bytes when this was written).
         assert!(stats.bytes_per_primitive() < 20.0, "{stats:?}");

@@ -6,7 +6,7 @@
 //! * [`ray`]: [`Ray`] and the [`Hit`] record. [`shape`]: the [`Shape`] enum dispatching to
 //!   [`sphere`], [`plane`], [`quad`] and mesh triangles ([`mesh`], [`triangle`]).
 //! * [`accel`]: [`Geometry`], the scene's intersector: a linear scan over the infinite planes,
-//!   then the [`bvh`] (binned SAH, 4-wide nodes tested with 4-wide vector arithmetic, robust
+//!   then the [`bvh`] (binned SAH, 8-wide nodes tested with 8-wide vector arithmetic, robust
 //!   slab test) over the rest, whose leaves hold the shapes copied into 4-wide packets
 //!   (`packet`). `Hit::prim` is the index of the shape in the list given to
 //!   [`Geometry::build`]. [`Geometry::intersect_packet`] and [`Geometry::occluded_packet`]
@@ -27,7 +27,7 @@
 //!   boxes built of quads with shared corners do not leak along edges.
 //! * **Numerically careful spheres** (*Ray Tracing Gems* ch. 7): small spheres far away stay
 //!   round.
-//! * **Four at a time, decided exactly**: BVH nodes test four boxes and leaf packets four
+//! * **Several at a time, decided exactly**: BVH nodes test eight boxes and leaf packets four
 //!   triangles in one go; the 4-wide triangle test only filters, and every triangle it cannot
 //!   rule out goes through the scalar watertight test, so hits (and their error bounds) are
 //!   exactly those of the shapes' own routines.

@@ -308,9 +308,13 @@ impl Bvh {
             } else {
                 let node = &self.nodes[current.child as usize];
                 let limit = f32x16::new(*t_max);
-                // The children entered by some ray, with the entry distance of their first ray,
-                // which orders them: nearest first for the packet's lowest ray.
-                let mut hits = [(PacketPending { child: 0, count: 0, lanes: 0 }, f32x16::ZERO, 0.0); WIDTH];
+                // The children entered by some ray, with their rays' entry distances; ordered
+                // (by index, so that the 64-byte distance vectors stay in place) by the entry
+                // distance of their first ray: nearest first for the packet's lowest ray.
+                let mut entries = [f32x16::ZERO; WIDTH];
+                let mut children = [PacketPending { child: 0, count: 0, lanes: 0 }; WIDTH];
+                let mut keys = [0.0f32; WIDTH];
+                let mut order = [0u8; WIDTH];
                 let mut hit_count = 0;
                 for slot in 0..WIDTH {
                     let (entry, entered) = packet.enter::<OCTANT>(node, slot, limit);
@@ -319,22 +323,24 @@ impl Bvh {
                         continue;
                     }
                     let key = entry.as_array()[entered.trailing_zeros() as usize];
-                    let pending =
+                    (entries[slot], keys[slot]) = (entry, key);
+                    children[slot] =
                         PacketPending { child: node.child[slot], count: node.count[slot], lanes: entered };
                     let mut i = hit_count;
-                    while i > 0 && hits[i - 1].2 > key {
-                        hits[i] = hits[i - 1];
+                    while i > 0 && keys[order[i - 1] as usize] > key {
+                        order[i] = order[i - 1];
                         i -= 1;
                     }
-                    hits[i] = (pending, entry, key);
+                    order[i] = slot as u8;
                     hit_count += 1;
                 }
                 if hit_count > 0 {
-                    for &(far, entry, _) in hits[1..hit_count].iter().rev() {
+                    for &slot in order[1..hit_count].iter().rev() {
+                        let far = children[slot as usize];
                         self.prefetch(far.single());
-                        stack.push(far, entry);
+                        stack.push(far, entries[slot as usize]);
                     }
-                    current = hits[0].0;
+                    current = children[order[0] as usize];
                     continue;
                 }
             }
