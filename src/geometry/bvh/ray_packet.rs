@@ -29,8 +29,9 @@
 //!
 //! Measured on the 1M-triangle mesh of `validation/bench/bench.py` (`prisma bench-rays`, 2
 //! threads, an AVX-512 Xeon; camera rays in rows of 1000, sixteen consecutive rays a packet):
-//! nearest hits 15–16.5 Mrays/s one by one, 17.5–21 in packets; any hits 16–18 and 24–29. A
-//! packet's rays visit 92 nodes one by one and about 11 in the packet (7.4 packet visits and
+//! with 4-wide nodes, nearest hits 15–16.5 Mrays/s one by one and 17.5–21 in packets, any hits
+//! 16–18 and 24–29; with 8-wide nodes (in RESULTS.md) 19.7 and 23.2, 20.3 and 26.9. A packet's
+//! rays visited 92 4-wide nodes one by one and about 11 in the packet (7.4 packet visits and
 //! 3.7 single-ray ones below the switch); the leaf tests, still ray by ray, are then most of
 //! the cost. Incoherent rays: within a few per cent of single rays either way.
 
@@ -55,8 +56,8 @@ const SINGLE_RAYS_MAX: u32 = 3;
 /// [`Bvh::coherent_lanes`]: rays of one octant fewer than this are traced alone from the root.
 /// Fewer rays of a packet share an octant when their directions are spread, and then, on the
 /// bench mesh's incoherent rays (where 29 % of the rays are in groups of four or more), their
-/// boxes also differ: such groups split after the root and traversing them together costed
-/// 12–15 % of the throughput of single rays.
+/// boxes also differ: such groups split after the root, and traversing them together cost
+/// 12–15 % of the single-ray throughput.
 const PACKET_MIN_RAYS: u32 = PACKET_RAYS as u32 / 2;
 
 /// Sixteen rays prepared for 16-wide slab tests: origins and componentwise inverse directions
