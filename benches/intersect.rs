@@ -1,6 +1,6 @@
 //! Ray–scene intersection on a large mesh: BVH build time and memory, and closest-hit and
 //! occlusion throughput (rays per second, single thread) for coherent camera rays and incoherent
-//! random rays.
+//! random rays, traced one by one and in packets of 16 consecutive rays.
 //!
 //! The mesh is a displaced tessellated sphere of 2·500·1000 = 1 000 000 triangles (radius 1 with
 //! a 10 % bump, the mesh of `geometry::accel::tests::benchmark`, so the numbers compare with the
@@ -18,7 +18,7 @@ use std::time::Instant;
 
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
 use glam::Vec3;
-use prisma::geometry::{Geometry, Mesh, Ray, Shape};
+use prisma::geometry::{Geometry, Mesh, Ray, Shape, PACKET_RAYS};
 use rand_core::{RngCore, SeedableRng};
 use rand_pcg::Pcg64;
 
@@ -123,6 +123,29 @@ fn intersect_benchmarks(c: &mut Criterion) {
         });
         group.bench_function(format!("{name}/occluded"), |b| {
             b.iter(|| rays.iter().filter(|ray| geometry.occluded(black_box(ray), f32::INFINITY)).count())
+        });
+        // The same rays in packets of 16 consecutive ones.
+        let unlimited = [f32::INFINITY; PACKET_RAYS];
+        group.bench_function(format!("{name}/closest_packets"), |b| {
+            b.iter(|| {
+                let mut hits = [None; PACKET_RAYS];
+                let mut count = 0;
+                for packet in rays.chunks(PACKET_RAYS) {
+                    let hits = &mut hits[..packet.len()];
+                    geometry.intersect_packet(black_box(packet), &unlimited[..packet.len()], hits);
+                    count += hits.iter().flatten().count();
+                }
+                count
+            })
+        });
+        group.bench_function(format!("{name}/occluded_packets"), |b| {
+            b.iter(|| {
+                rays.chunks(PACKET_RAYS)
+                    .map(|packet| {
+                        geometry.occluded_packet(black_box(packet), &unlimited[..packet.len()]).count_ones()
+                    })
+                    .sum::<u32>()
+            })
         });
     }
     group.finish();
