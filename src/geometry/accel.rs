@@ -144,7 +144,7 @@ impl Geometry {
         }
         let mut nearest_plane = [None; PACKET_RAYS];
         let mut t_limit = [0.0; PACKET_RAYS];
-        for lane in 0..count {
+        for lane in (0..count).filter(|&lane| lanes & (1 << lane) != 0) {
             (nearest_plane[lane], t_limit[lane]) = self.nearest_plane(&packet[lane], t_max[lane]);
         }
         let mut sheared = [None; PACKET_RAYS];

@@ -2,11 +2,11 @@
 //! allows it.
 //!
 //! Incoherent rays jump across the whole BVH, so with 4 KiB pages nearly every node and leaf
-//! they touch also misses the TLB: on a 1M-triangle mesh (70 MB of nodes and packets), asking
-//! Linux for transparent huge pages (`madvise(MADV_HUGEPAGE)`, which Linux honours in its
-//! default `madvise` mode) traced 14 % more incoherent rays per second (`prisma bench-rays`,
-//! validation/bench/PROFILE.md). Elsewhere, or when the kernel declines, the arrays stay
-//! as they are: nothing depends on it but speed.
+//! they touch also misses the TLB: on a 1M-triangle mesh (about 60 MB of nodes and packets),
+//! asking Linux for transparent huge pages (`madvise(MADV_HUGEPAGE)`, which Linux honours when
+//! its THP mode is `madvise` or `always`) traced 14 % more incoherent rays per second
+//! (`prisma bench-rays`, validation/bench/PROFILE.md). Elsewhere, or when the kernel declines,
+//! the arrays stay as they are: nothing depends on it but speed.
 
 /// Arrays smaller than this are left where they are: they span only a few huge pages at most.
 const MIN_BYTES: usize = 4 << 20;
