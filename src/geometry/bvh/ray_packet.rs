@@ -186,17 +186,23 @@ impl<E: Copy> PacketStack<E> {
     }
 }
 
-/// The direction octant of each ray (bit a: negative along axis a, as [`RayBoxes`]).
-fn octants(rays: &[Ray; PACKET_RAYS]) -> [usize; PACKET_RAYS] {
-    std::array::from_fn(|lane| rays[lane].dir.is_negative_bitmask() as usize & 7)
-}
-
-/// The lanes of `lanes` whose octant is that of its lowest lane, and that octant.
+/// The rays `lanes` (bit i: `rays[i]`; lanes beyond [`PACKET_RAYS`] ignored) grouped by
+/// direction octant (bit a: negative along axis a, as [`RayBoxes`]): each group's lanes and
+/// its octant, in the order of the groups' lowest lanes.
 #[inline]
-fn first_octant_group(lanes: LaneMask, octants: &[usize; PACKET_RAYS]) -> (LaneMask, usize) {
-    let octant = octants[lanes.trailing_zeros() as usize];
-    let group = (0..PACKET_RAYS).filter(|&lane| octants[lane] == octant).fold(0, |m, lane| m | 1 << lane);
-    (group & lanes, octant)
+fn octant_groups(rays: &[Ray; PACKET_RAYS], lanes: u32) -> impl Iterator<Item = (LaneMask, usize)> {
+    let octants: [usize; PACKET_RAYS] =
+        std::array::from_fn(|lane| rays[lane].dir.is_negative_bitmask() as usize & 7);
+    let mut remaining = lanes & ((1 << PACKET_RAYS) - 1);
+    std::iter::from_fn(move || {
+        (remaining != 0).then(|| {
+            let octant = octants[remaining.trailing_zeros() as usize];
+            let group =
+                each_lane(remaining).filter(|&lane| octants[lane] == octant).fold(0, |m, lane| m | 1 << lane);
+            remaining &= !group;
+            (group, octant)
+        })
+    })
 }
 
 /// The lanes of a mask, lowest first.
@@ -217,17 +223,9 @@ impl Bvh {
     /// are better traced alone from the root ([`Self::closest_hit`], [`Self::any_hit`]):
     /// incoherent rays then pay nothing for being handed over in a packet.
     pub fn coherent_lanes(rays: &[Ray; PACKET_RAYS], lanes: u32) -> u32 {
-        let octants = octants(rays);
-        let mut remaining = lanes & ((1 << PACKET_RAYS) - 1);
-        let mut coherent = 0;
-        while remaining != 0 {
-            let (group, _) = first_octant_group(remaining, &octants);
-            remaining &= !group;
-            if group.count_ones() >= PACKET_MIN_RAYS {
-                coherent |= group;
-            }
-        }
-        coherent
+        octant_groups(rays, lanes)
+            .filter(|(group, _)| group.count_ones() >= PACKET_MIN_RAYS)
+            .fold(0, |coherent, (group, _)| coherent | group)
     }
 
     /// Nearest-hit traversal of a packet: for every ray `rays[i]` with bit i of `lanes` set,
@@ -242,16 +240,12 @@ impl Bvh {
         t_max: &mut [f32; PACKET_RAYS],
         mut intersect: impl FnMut(usize, u32, u32, f32) -> Option<f32>,
     ) -> u32 {
-        let mut lanes = lanes & ((1 << PACKET_RAYS) - 1);
-        if self.nodes.is_empty() || lanes == 0 {
+        if self.nodes.is_empty() || lanes & ((1 << PACKET_RAYS) - 1) == 0 {
             return 0;
         }
         let packet = PacketBoxes::new(rays);
-        let octants = octants(rays);
         let mut found = 0;
-        while lanes != 0 {
-            let (group, octant) = first_octant_group(lanes, &octants);
-            lanes &= !group;
+        for (group, octant) in octant_groups(rays, lanes) {
             let f = &mut intersect;
             found |= by_octant!(octant, O => self.closest_packet_in::<O>(&packet, group, t_max, f));
         }
@@ -268,16 +262,12 @@ impl Bvh {
         t_max: &[f32; PACKET_RAYS],
         mut intersect: impl FnMut(usize, u32, u32, f32) -> bool,
     ) -> u32 {
-        let mut lanes = lanes & ((1 << PACKET_RAYS) - 1);
-        if self.nodes.is_empty() || lanes == 0 {
+        if self.nodes.is_empty() || lanes & ((1 << PACKET_RAYS) - 1) == 0 {
             return 0;
         }
         let packet = PacketBoxes::new(rays);
-        let octants = octants(rays);
         let mut occluded = 0;
-        while lanes != 0 {
-            let (group, octant) = first_octant_group(lanes, &octants);
-            lanes &= !group;
+        for (group, octant) in octant_groups(rays, lanes) {
             let f = &mut intersect;
             occluded |= by_octant!(octant, O => self.any_packet_in::<O>(&packet, group, t_max, f));
         }
