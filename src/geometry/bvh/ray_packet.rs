@@ -35,16 +35,34 @@
 //! 3.7 single-ray ones below the switch); the leaf tests, still ray by ray, are then most of
 //! the cost. Incoherent rays: 0–10 % slower than one by one (the octant grouping, and the
 //! occasional group of eight that splits after the root).
+//!
+//! Below the root, a node is first tested against the packet's *frustum* ([`PacketFrustum`]:
+//! the bounds of its rays' origins and inverse directions, one conservative 8-wide test for
+//! all eight children), and only the children it keeps get the exact 16-wide test: on the
+//! coherent bench rays it kept 1.8 of 8 children per packet visit. With it, and with the
+//! packet's boxes made without a call per lane, packets of camera rays went from 20.9 to 23.4
+//! Mrays/s (nearest) and from 28.2 to 31.9 (any) on a 2-core AMD EPYC (best of 8 alternating
+//! runs each; single rays 19.2–20.6 and 23.4–23.5 in the same runs). Most packets of that set
+//! miss the mesh's box, so what a packet costs before its first node counts: the frustum is
+//! made only on the first visit below the root.
+//!
+//! Measured and not kept: testing the rays that reach a leaf together 16 at a time against
+//! each triangle (the 4-wide filter of `packet` made 16 rays wide): on the same rays a leaf is
+//! reached by 3 rays of a packet on average, and the packets were no faster (within the
+//! noise, 0–10 % slower).
 
 use std::mem::MaybeUninit;
 
 use wide::f32x16;
 
-use super::{Bvh, Node, Pending, RayBoxes, ROBUST_EXIT_SCALE, STACK_SIZE, WIDTH};
+use super::{Bvh, Lanes, Node, Pending, RayBoxes, ROBUST_EXIT_SCALE, STACK_SIZE, WIDTH};
 use crate::geometry::Ray;
 
 /// Rays in a packet.
 pub const PACKET_RAYS: usize = 16;
+
+/// Every child slot of a node, as a mask.
+const ALL_CHILDREN: LaneMask = (1 << WIDTH) - 1;
 
 /// A packet's rays that still traverse a subtree, bit i for lane i; or fewer,
 /// [`SINGLE_RAYS_MAX`] or less, which then continue one by one.
@@ -70,11 +88,15 @@ struct PacketBoxes {
 
 impl PacketBoxes {
     fn new(rays: &[Ray; PACKET_RAYS]) -> Self {
-        let axis = |of: &dyn Fn(&Ray) -> f32| f32x16::new(std::array::from_fn(|lane| of(&rays[lane])));
-        Self {
-            origin: [axis(&|r| r.origin.x), axis(&|r| r.origin.y), axis(&|r| r.origin.z)],
-            inv_dir: [axis(&|r| 1.0 / r.dir.x), axis(&|r| 1.0 / r.dir.y), axis(&|r| 1.0 / r.dir.z)],
+        let mut origin = [[0.0; PACKET_RAYS]; 3];
+        let mut dir = [[0.0; PACKET_RAYS]; 3];
+        for (lane, ray) in rays.iter().enumerate() {
+            for axis in 0..3 {
+                origin[axis][lane] = ray.origin[axis];
+                dir[axis][lane] = ray.dir[axis];
+            }
         }
+        Self { origin: origin.map(f32x16::new), inv_dir: dir.map(|d| f32x16::ONE / f32x16::new(d)) }
     }
 
     /// The single-ray form of lane `lane`, of octant `octant` (the same inverse directions).
@@ -105,6 +127,101 @@ impl PacketBoxes {
         let exit = smaller_unless_nan(exit * f32x16::splat(ROBUST_EXIT_SCALE), t_max);
         (entry, entry.simd_le(exit).to_bitmask())
     }
+}
+
+/// Bounds of the rays of one octant group of a packet, for a conservative test of all eight
+/// children of a node at once before the exact 16-wide tests (the packet's "frustum", in the
+/// spirit of the interval-arithmetic culling of I. Wald, S. Boulos, P. Shirley, "Ray Tracing
+/// Deformable Scenes using Dynamic Bounding Volume Hierarchies", *ACM TOG* 26(1), 2007): the
+/// smallest and largest origin and inverse direction on each axis over the group's rays, and
+/// their largest `t_max`.
+///
+/// Every f32 operation of the slab test (`(plane − origin)·inv_dir`, the scaled exit) is
+/// monotone in each operand, so the same operations on the bounds give a lower bound of every
+/// ray's entry distance and an upper bound of its exit distance: a child whose bounds are
+/// disjoint is entered by none of the rays, and the exact test of the others decides. Made only
+/// where every inverse direction is finite, so that no bound is 0·∞.
+struct PacketFrustum {
+    origin_lo: [Lanes; 3],
+    origin_hi: [Lanes; 3],
+    inv_lo: [Lanes; 3],
+    inv_hi: [Lanes; 3],
+    t_max: Lanes,
+}
+
+impl PacketFrustum {
+    /// The bounds of the rays `lanes` of `packet` with limits `t_max`; `None` where some inverse
+    /// direction is infinite (a zero direction component) or NaN.
+    fn new(packet: &PacketBoxes, lanes: LaneMask, t_max: &[f32; PACKET_RAYS]) -> Option<Self> {
+        // In vector registers: lanes outside `lanes` are replaced by ±∞, then the sixteen
+        // lanes are folded in halves.
+        let taken =
+            f32x16::new(std::array::from_fn(|lane| ((lanes >> lane) & 1) as f32)).simd_ne(f32x16::ZERO);
+        let range = |values: f32x16| {
+            let lo = taken.bitselect(values, f32x16::splat(f32::INFINITY));
+            let hi = taken.bitselect(values, f32x16::splat(f32::NEG_INFINITY));
+            (fold(lo, f32::min), fold(hi, f32::max))
+        };
+        let origin = packet.origin.map(range);
+        let inv = packet.inv_dir.map(range);
+        // `f32::min` and `max` skip NaN: a NaN inverse direction (never made from a ray) would
+        // not show in the bounds, so it is ruled out here with the infinite ones.
+        let finite = packet.inv_dir.iter().all(|d| d.is_finite().to_bitmask() & lanes == lanes);
+        if !finite {
+            return None;
+        }
+        let (_, t_max) = range(f32x16::new(*t_max));
+        Some(Self {
+            origin_lo: origin.map(|(lo, _)| Lanes::splat(lo)),
+            origin_hi: origin.map(|(_, hi)| Lanes::splat(hi)),
+            inv_lo: inv.map(|(lo, _)| Lanes::splat(lo)),
+            inv_hi: inv.map(|(_, hi)| Lanes::splat(hi)),
+            t_max: Lanes::splat(t_max),
+        })
+    }
+
+    /// The children of `node` that some ray of the group may enter (bit i: child i), for rays
+    /// of octant `OCTANT`: a superset of the union of their [`PacketBoxes::enter`] masks.
+    #[inline(always)]
+    fn children<const OCTANT: usize>(&self, node: &Node) -> LaneMask {
+        let mut entry = Lanes::ZERO;
+        let mut exit = Lanes::splat(f32::INFINITY);
+        for axis in 0..3 {
+            let negative = (OCTANT >> axis) & 1 == 1;
+            let near_row = 2 * axis + usize::from(negative);
+            let near = Lanes::new(node.planes[near_row]);
+            let far = Lanes::new(node.planes[near_row ^ 1]);
+            // A positive inverse direction: the distance grows with `plane − origin`, so the
+            // largest origin gives the smallest near distance and the smallest the largest far
+            // one; a negative inverse direction the other way round. Then the smaller (larger)
+            // of the products with the two inverse-direction bounds.
+            let (near_offset, far_offset) = if negative {
+                (near - self.origin_lo[axis], far - self.origin_hi[axis])
+            } else {
+                (near - self.origin_hi[axis], far - self.origin_lo[axis])
+            };
+            let near_t = (near_offset * self.inv_lo[axis]).fast_min(near_offset * self.inv_hi[axis]);
+            let far_t = (far_offset * self.inv_lo[axis]).fast_max(far_offset * self.inv_hi[axis]);
+            entry = super::larger_unless_nan(near_t, entry);
+            exit = super::smaller_unless_nan(far_t, exit);
+        }
+        let exit = super::smaller_unless_nan(exit * Lanes::splat(ROBUST_EXIT_SCALE), self.t_max);
+        entry.simd_le(exit).to_bitmask()
+    }
+}
+
+/// `combine` over the sixteen lanes of `values`, pairwise.
+#[inline(always)]
+fn fold(values: f32x16, combine: fn(f32, f32) -> f32) -> f32 {
+    let mut lanes = values.to_array();
+    let mut width = PACKET_RAYS / 2;
+    while width > 0 {
+        for lane in 0..width {
+            lanes[lane] = combine(lanes[lane], lanes[lane + width]);
+        }
+        width /= 2;
+    }
+    lanes[0]
 }
 
 /// Lane-wise `candidate > running ? candidate : running` (`running` where `candidate` is NaN),
@@ -283,6 +400,8 @@ impl Bvh {
         t_max: &mut [f32; PACKET_RAYS],
         intersect: &mut impl FnMut(usize, u32, u32, f32) -> Option<f32>,
     ) -> LaneMask {
+        // Made on the first visit below the root, which many packets never get past.
+        let mut frustum: Option<Option<PacketFrustum>> = None;
         let mut stack = PacketStack::<f32x16>::new();
         let mut current = PacketPending { child: 0, count: 0, lanes };
         let mut found = 0;
@@ -308,7 +427,13 @@ impl Bvh {
                 let mut keys = [0.0f32; WIDTH];
                 let mut order = [0u8; WIDTH];
                 let mut hit_count = 0;
-                for slot in 0..WIDTH {
+                let maybe = if current.child == 0 {
+                    ALL_CHILDREN
+                } else {
+                    let frustum = frustum.get_or_insert_with(|| PacketFrustum::new(packet, lanes, t_max));
+                    frustum.as_ref().map_or(ALL_CHILDREN, |frustum| frustum.children::<OCTANT>(node))
+                };
+                for slot in each_lane(maybe) {
                     let (entry, entered) = packet.enter::<OCTANT>(node, slot, limit);
                     let entered = entered & current.lanes;
                     if entered == 0 {
@@ -360,6 +485,8 @@ impl Bvh {
         intersect: &mut impl FnMut(usize, u32, u32, f32) -> bool,
     ) -> LaneMask {
         let limit = f32x16::new(*t_max);
+        // Made on the first visit below the root, which many packets never get past.
+        let mut frustum: Option<Option<PacketFrustum>> = None;
         let mut stack = PacketStack::<()>::new();
         let mut current = PacketPending { child: 0, count: 0, lanes };
         // Rays not yet known to be occluded.
@@ -378,8 +505,14 @@ impl Bvh {
                 }
             } else {
                 let node = &self.nodes[current.child as usize];
+                let maybe = if current.child == 0 {
+                    ALL_CHILDREN
+                } else {
+                    let frustum = frustum.get_or_insert_with(|| PacketFrustum::new(packet, lanes, t_max));
+                    frustum.as_ref().map_or(ALL_CHILDREN, |frustum| frustum.children::<OCTANT>(node))
+                };
                 let mut first = None;
-                for slot in 0..WIDTH {
+                for slot in each_lane(maybe) {
                     let entered = packet.enter::<OCTANT>(node, slot, limit).1 & current.lanes;
                     if entered == 0 {
                         continue;
@@ -474,6 +607,46 @@ mod tests {
             }));
         }
         packets
+    }
+
+    #[test]
+    fn frustum_keeps_every_child_a_ray_enters_and_culls_others() {
+        // Every node of a tree over 5000 boxes against the octant groups of 800 packets (with
+        // per-lane t_max): the frustum's children include every child that one of the group's
+        // rays enters by the exact 16-wide test, and leave out most of the others for the
+        // narrow fans (or the test would not see a frustum that culls nothing).
+        let mut rng = Rng::new(78);
+        let primitives = random_boxes(&mut rng, 5_000);
+        let (bvh, _) = Bvh::build(primitives.clone());
+        let (mut culled, mut missed_by_all) = (0u32, 0u32);
+        for rays in packets(&mut rng, &primitives) {
+            let limits: [f32; PACKET_RAYS] = std::array::from_fn(|_| {
+                if rng.uniform(0.0, 1.0) < 0.5 {
+                    f32::INFINITY
+                } else {
+                    rng.uniform(1.0, 300.0)
+                }
+            });
+            let boxes = PacketBoxes::new(&rays);
+            let limit = f32x16::new(limits);
+            for (group, octant) in octant_groups(&rays, 0xffff) {
+                let Some(frustum) = PacketFrustum::new(&boxes, group, &limits) else {
+                    continue;
+                };
+                for node in &bvh.nodes {
+                    let (entered, maybe) = by_octant!(octant, O => (
+                        (0..WIDTH)
+                            .filter(|&slot| boxes.enter::<O>(node, slot, limit).1 & group != 0)
+                            .fold(0, |mask, slot| mask | 1 << slot),
+                        frustum.children::<O>(node),
+                    ));
+                    assert_eq!(entered & !maybe, 0, "frustum {maybe:#b} drops children {entered:#b}");
+                    missed_by_all += (ALL_CHILDREN & !entered).count_ones();
+                    culled += (ALL_CHILDREN & !maybe).count_ones();
+                }
+            }
+        }
+        assert!(culled * 2 > missed_by_all, "culled {culled} of {missed_by_all} children no ray enters");
     }
 
     #[test]
