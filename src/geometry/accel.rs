@@ -218,11 +218,21 @@ impl Geometry {
                 continue;
             }
             let sheared = sheared.get_or_insert_with(|| ShearedRay::new(*ray));
-            let mut candidates = packet.candidates(sheared, t_limit);
+            let test = packet.test(sheared, t_limit);
+            let tested_limit = t_limit;
+            let mut candidates = test.hits | test.undecided;
             while candidates != 0 {
                 let lane = candidates.trailing_zeros() as usize;
                 candidates &= candidates - 1;
-                if let Some(hit) = packet.intersect_lane(lane, sheared, t_limit) {
+                // A hit of the 4-wide test stands while the limit it was tested against does;
+                // after a closer hit in the same packet, the scalar test decides, as it would
+                // ray by ray.
+                let hit = if test.hits & (1 << lane) != 0 && t_limit == tested_limit {
+                    Some(test.hit(lane))
+                } else {
+                    packet.intersect_lane(lane, sheared, t_limit)
+                };
+                if let Some(hit) = hit {
                     t_limit = hit.t;
                     found = Some(hit.t);
                     *nearest = Some(Nearest::Triangle { packet: index, lane: lane as u8, hit });
@@ -321,10 +331,14 @@ impl Geometry {
                 });
             }
             let sheared = sheared.get_or_insert_with(|| ShearedRay::new(*ray));
-            let mut candidates = packet.candidates(sheared, t_max);
-            while candidates != 0 {
-                let lane = candidates.trailing_zeros() as usize;
-                candidates &= candidates - 1;
+            let test = packet.test(sheared, t_max);
+            if test.hits != 0 {
+                return true;
+            }
+            let mut undecided = test.undecided;
+            while undecided != 0 {
+                let lane = undecided.trailing_zeros() as usize;
+                undecided &= undecided - 1;
                 if packet.intersect_lane(lane, sheared, t_max).is_some() {
                     return true;
                 }

@@ -28,9 +28,10 @@
 //! * **Numerically careful spheres** (*Ray Tracing Gems* ch. 7): small spheres far away stay
 //!   round.
 //! * **Several at a time, decided exactly**: BVH nodes test eight boxes and leaf packets four
-//!   triangles in one go; the 4-wide triangle test only filters, and every triangle it cannot
-//!   rule out goes through the scalar watertight test, so hits (and their error bounds) are
-//!   exactly those of the shapes' own routines.
+//!   triangles in one go; the 4-wide triangle test repeats the scalar watertight test's
+//!   arithmetic operation for operation, and leaves the lanes it cannot decide (an edge
+//!   function of exactly 0) to the scalar test, so hits (and their error bounds) are exactly
+//!   those of the shapes' own routines.
 //! * **Hit records are built once per ray**: the nearest-hit search keeps the distance and
 //!   barycentrics of the best candidate and builds the [`Hit`] (normals, point) for the one it
 //!   returns, with the shapes' own code.
