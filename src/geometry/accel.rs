@@ -323,12 +323,12 @@ impl Geometry {
         count: u32,
         t_max: f32,
     ) -> bool {
-        self.packets[first as usize..(first + count) as usize].iter().any(|packet| {
+        for packet in &self.packets[first as usize..(first + count) as usize] {
             if packet.holds_spheres() {
-                return (0..super::packet::LANES).any(|lane| {
-                    packet.lane(lane) == Lane::Sphere
-                        && packet.sphere(lane).intersect(ray, t_max, 0).is_some()
-                });
+                if spheres_occlude(packet, ray, t_max) {
+                    return true;
+                }
+                continue;
             }
             let sheared = sheared.get_or_insert_with(|| ShearedRay::new(*ray));
             let test = packet.test(sheared, t_max);
@@ -343,8 +343,8 @@ impl Geometry {
                     return true;
                 }
             }
-            false
-        })
+        }
+        false
     }
 
     /// The shapes in the order given to [`Self::build`].
@@ -369,6 +369,15 @@ impl Geometry {
     pub fn bvh_stats(&self) -> BvhStats {
         BvhStats { primitive_bytes: std::mem::size_of_val(self.packets.as_slice()), ..self.bvh.stats() }
     }
+}
+
+/// Whether `ray` hits a sphere of the sphere packet `packet` with t in (0, `t_max`). Kept out
+/// of line: the any-hit leaf loop, inlined into the traversal, stays small.
+#[inline(never)]
+fn spheres_occlude(packet: &Packet, ray: &Ray, t_max: f32) -> bool {
+    (0..super::packet::LANES).any(|lane| {
+        packet.lane(lane) == Lane::Sphere && packet.sphere(lane).intersect(ray, t_max, 0).is_some()
+    })
 }
 
 #[cfg(test)]
