@@ -23,7 +23,7 @@
 use glam::{BVec4A, Vec3, Vec4};
 
 use super::rounding::gamma;
-use super::triangle::{intersect_triangle, ShearedRay, TriangleHit};
+use super::triangle::{distance_error_bound, intersect_triangle, ShearedRay, TriangleHit};
 use super::{Plane, Quad, Ray, Sphere};
 
 /// Shapes per packet.
@@ -157,22 +157,10 @@ impl Packet {
             return test;
         }
         // The rest of `intersect_triangle` for the lanes that passed: the division, and the
-        // distance against t_max and its error bound (`distance_error_bound`: every value here
-        // is finite, so the maxima are exact and their order does not matter).
+        // distance against t_max and its error bound.
         let inv_det = Vec4::ONE / det;
         let t = t_scaled * inv_det;
-        let max_x = ax.abs().max(bx.abs()).max(cx.abs());
-        let max_y = ay.abs().max(by.abs()).max(cy.abs());
-        let max_z = z[0].abs().max(z[1].abs()).max(z[2].abs());
-        let max_e = e0.abs().max(e1.abs()).max(e2.abs());
-        let delta_z = Vec4::splat(gamma(3)) * max_z;
-        let delta_x = Vec4::splat(gamma(5)) * (max_x + max_z);
-        let delta_y = Vec4::splat(gamma(5)) * (max_y + max_z);
-        let delta_e =
-            Vec4::splat(2.0) * (Vec4::splat(gamma(2)) * max_x * max_y + delta_y * max_x + delta_x * max_y);
-        let bound = Vec4::splat(3.0)
-            * (Vec4::splat(gamma(3)) * max_e * max_z + delta_e * max_z + delta_z * max_e)
-            * inv_det.abs();
+        let bound = distance_error_bound(&[(ax, ay), (bx, by), (cx, cy)], &z, &[e0, e1, e2], inv_det);
         let accepted = t.cmplt(Vec4::splat(t_max)) & t.cmpgt(bound);
         test.hits = passed & accepted.bitmask();
         test.t = t;

@@ -148,18 +148,68 @@ fn edge_function_f64(p: (f32, f32), q: (f32, f32)) -> f32 {
 
 /// Bound on the rounding error of the computed t (PBR 3rd ed. §3.9.6): from the errors of the
 /// translated and sheared coordinates (γ(3) for z, γ(5) for x and y), through the edge
-/// functions, to the weighted sum of z and the division by the determinant.
-#[inline]
-fn distance_error_bound(xy: &[(f32, f32); 3], z: &[f32; 3], edges: &[f32; 3], inv_det: f32) -> f32 {
-    let max_x = xy.iter().fold(0.0f32, |m, p| m.max(p.0.abs()));
-    let max_y = xy.iter().fold(0.0f32, |m, p| m.max(p.1.abs()));
-    let max_z = z.iter().fold(0.0f32, |m, v| m.max(v.abs()));
-    let max_e = edges.iter().fold(0.0f32, |m, v| m.max(v.abs()));
-    let delta_z = gamma(3) * max_z;
-    let delta_x = gamma(5) * (max_x + max_z);
-    let delta_y = gamma(5) * (max_y + max_z);
-    let delta_e = 2.0 * (gamma(2) * max_x * max_y + delta_y * max_x + delta_x * max_y);
-    3.0 * (gamma(3) * max_e * max_z + delta_e * max_z + delta_z * max_e) * inv_det.abs()
+/// functions, to the weighted sum of z and the division by the determinant. Generic over the
+/// lanes, so that the 4-wide packet test (`super::packet`) evaluates exactly these operations.
+#[inline(always)]
+pub(crate) fn distance_error_bound<T: BoundLanes>(
+    xy: &[(T, T); 3],
+    z: &[T; 3],
+    edges: &[T; 3],
+    inv_det: T,
+) -> T {
+    let zero = T::splat(0.0);
+    let max_x = xy.iter().fold(zero, |m, p| m.max(p.0.abs()));
+    let max_y = xy.iter().fold(zero, |m, p| m.max(p.1.abs()));
+    let max_z = z.iter().fold(zero, |m, v| m.max(v.abs()));
+    let max_e = edges.iter().fold(zero, |m, v| m.max(v.abs()));
+    let delta_z = T::splat(gamma(3)) * max_z;
+    let delta_x = T::splat(gamma(5)) * (max_x + max_z);
+    let delta_y = T::splat(gamma(5)) * (max_y + max_z);
+    let delta_e = T::splat(2.0) * (T::splat(gamma(2)) * max_x * max_y + delta_y * max_x + delta_x * max_y);
+    T::splat(3.0) * (T::splat(gamma(3)) * max_e * max_z + delta_e * max_z + delta_z * max_e) * inv_det.abs()
+}
+
+/// One f32 or several lanes of them, for [`distance_error_bound`]. Where the values are finite
+/// (always, for the lanes whose bound is used) `max` is exact, so f32's and the vector's agree.
+pub(crate) trait BoundLanes:
+    Copy + std::ops::Add<Output = Self> + std::ops::Mul<Output = Self>
+{
+    /// Every lane `value`.
+    fn splat(value: f32) -> Self;
+    /// Lane-wise absolute value.
+    fn abs(self) -> Self;
+    /// Lane-wise maximum.
+    fn max(self, other: Self) -> Self;
+}
+
+impl BoundLanes for f32 {
+    #[inline(always)]
+    fn splat(value: f32) -> Self {
+        value
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        f32::abs(self)
+    }
+    #[inline(always)]
+    fn max(self, other: Self) -> Self {
+        f32::max(self, other)
+    }
+}
+
+impl BoundLanes for glam::Vec4 {
+    #[inline(always)]
+    fn splat(value: f32) -> Self {
+        glam::Vec4::splat(value)
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        glam::Vec4::abs(self)
+    }
+    #[inline(always)]
+    fn max(self, other: Self) -> Self {
+        glam::Vec4::max(self, other)
+    }
 }
 
 #[cfg(test)]

@@ -210,6 +210,32 @@ impl PacketFrustum {
     }
 }
 
+/// A packet's [`PacketFrustum`], made on the first visit below the root, which many packets
+/// never get past (`None` inside: no frustum can be made for these rays).
+#[derive(Default)]
+struct LazyFrustum(Option<Option<PacketFrustum>>);
+
+impl LazyFrustum {
+    /// The children of node `index` (`node`) to give the exact test: all of them at the root or
+    /// without a frustum, else [`PacketFrustum::children`] of the frustum of the rays `lanes`
+    /// of `packet` with limits `t_max`, made on first use.
+    #[inline(always)]
+    fn children<const OCTANT: usize>(
+        &mut self,
+        index: u32,
+        node: &Node,
+        packet: &PacketBoxes,
+        lanes: LaneMask,
+        t_max: &[f32; PACKET_RAYS],
+    ) -> LaneMask {
+        if index == 0 {
+            return ALL_CHILDREN;
+        }
+        let frustum = self.0.get_or_insert_with(|| PacketFrustum::new(packet, lanes, t_max));
+        frustum.as_ref().map_or(ALL_CHILDREN, |frustum| frustum.children::<OCTANT>(node))
+    }
+}
+
 /// `combine` over the sixteen lanes of `values`, pairwise.
 #[inline(always)]
 fn fold(values: f32x16, combine: fn(f32, f32) -> f32) -> f32 {
@@ -400,8 +426,7 @@ impl Bvh {
         t_max: &mut [f32; PACKET_RAYS],
         intersect: &mut impl FnMut(usize, u32, u32, f32) -> Option<f32>,
     ) -> LaneMask {
-        // Made on the first visit below the root, which many packets never get past.
-        let mut frustum: Option<Option<PacketFrustum>> = None;
+        let mut frustum = LazyFrustum::default();
         let mut stack = PacketStack::<f32x16>::new();
         let mut current = PacketPending { child: 0, count: 0, lanes };
         let mut found = 0;
@@ -427,12 +452,7 @@ impl Bvh {
                 let mut keys = [0.0f32; WIDTH];
                 let mut order = [0u8; WIDTH];
                 let mut hit_count = 0;
-                let maybe = if current.child == 0 {
-                    ALL_CHILDREN
-                } else {
-                    let frustum = frustum.get_or_insert_with(|| PacketFrustum::new(packet, lanes, t_max));
-                    frustum.as_ref().map_or(ALL_CHILDREN, |frustum| frustum.children::<OCTANT>(node))
-                };
+                let maybe = frustum.children::<OCTANT>(current.child, node, packet, lanes, t_max);
                 for slot in each_lane(maybe) {
                     let (entry, entered) = packet.enter::<OCTANT>(node, slot, limit);
                     let entered = entered & current.lanes;
@@ -485,8 +505,7 @@ impl Bvh {
         intersect: &mut impl FnMut(usize, u32, u32, f32) -> bool,
     ) -> LaneMask {
         let limit = f32x16::new(*t_max);
-        // Made on the first visit below the root, which many packets never get past.
-        let mut frustum: Option<Option<PacketFrustum>> = None;
+        let mut frustum = LazyFrustum::default();
         let mut stack = PacketStack::<()>::new();
         let mut current = PacketPending { child: 0, count: 0, lanes };
         // Rays not yet known to be occluded.
@@ -505,12 +524,7 @@ impl Bvh {
                 }
             } else {
                 let node = &self.nodes[current.child as usize];
-                let maybe = if current.child == 0 {
-                    ALL_CHILDREN
-                } else {
-                    let frustum = frustum.get_or_insert_with(|| PacketFrustum::new(packet, lanes, t_max));
-                    frustum.as_ref().map_or(ALL_CHILDREN, |frustum| frustum.children::<OCTANT>(node))
-                };
+                let maybe = frustum.children::<OCTANT>(current.child, node, packet, lanes, t_max);
                 let mut first = None;
                 for slot in each_lane(maybe) {
                     let entered = packet.enter::<OCTANT>(node, slot, limit).1 & current.lanes;
