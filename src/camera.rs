@@ -27,6 +27,8 @@ pub struct Camera {
     right_scaled: Vec3,
     /// Unit vector toward the image's top, scaled by tan(fov_y/2).
     up_scaled: Vec3,
+    /// Unit vector toward the image's top.
+    up: Vec3,
     width: u32,
     height: u32,
 }
@@ -84,6 +86,7 @@ impl Camera {
             forward,
             right_scaled: -left * tan_half * aspect,
             up_scaled: true_up * tan_half,
+            up: true_up,
             width,
             height,
         })
@@ -121,6 +124,15 @@ impl Camera {
         let ndc_y = 1.0 - 2.0 * y / self.height as f32;
         let dir = (self.forward + ndc_x * self.right_scaled + ndc_y * self.up_scaled).normalize();
         Ray::new(self.position, dir)
+    }
+
+    /// The x axis of the Stokes frame in which the light arriving along a camera ray of
+    /// direction `dir` is recorded: normalize(dir × up), with `up` the camera's unit up vector.
+    /// It is the image's right for the central ray, as in Mitsuba 3's `stokes` integrator, and
+    /// tilts with off-axis rays. Light travels along −dir, so y = (−dir) × x points up.
+    #[inline]
+    pub fn stokes_x(&self, dir: Vec3) -> Vec3 {
+        dir.cross(self.up).normalize()
     }
 }
 
@@ -165,5 +177,17 @@ mod tests {
             Camera::look_at(Vec3::ZERO, Vec3::Z, Vec3::Y, 180.0, 1, 1),
             Err(CameraError::FieldOfView(180.0))
         );
+    }
+
+    #[test]
+    fn stokes_frame_is_image_right_and_up_for_the_receiver() {
+        let camera = Camera::look_at(Vec3::ZERO, Vec3::Z, Vec3::Y, 60.0, 200, 100).unwrap();
+        let centre = camera.ray(100.0, 50.0);
+        let x = camera.stokes_x(centre.dir);
+        // Image right is world −x here (see the test above); y = (−dir) × x is image up.
+        assert!((x - Vec3::NEG_X).length() < 1e-6, "{x}");
+        assert!(((-centre.dir).cross(x) - Vec3::Y).length() < 1e-6);
+        let off_axis = camera.ray(10.0, 5.0).dir;
+        assert!(camera.stokes_x(off_axis).dot(off_axis).abs() < 1e-6);
     }
 }

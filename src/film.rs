@@ -1,26 +1,182 @@
-//! [`Film`]: the rendered image as per-pixel mean CIE XYZ (or, in monochromatic mode, mean
-//! spectral radiance at one wavelength), with its linear sRGB view.
+//! [`Film`]: the rendered image: per-pixel mean CIE XYZ of the radiance (in monochromatic mode,
+//! the mean spectral radiance at one wavelength), and, as the [`FilmLayout`] asks, the XYZ of
+//! the Stokes components S1–S3 and the mean spectral radiance in wavelength bands.
+//!
+//! [`PixelSums`] accumulates one pixel's camera samples in f64 in a fixed order; the division by
+//! the wavelength pdf happens here and in [`crate::spectrum::cie::to_xyz`], nowhere else.
 
 use glam::Vec3;
 
+use crate::integrator::Beam;
 use crate::spectrum::color::xyz_to_linear_srgb;
+use crate::spectrum::{cie, SampledWavelengths};
+
+/// `count` wavelength bands of equal width over [`min_nm`, `max_nm`), for spectral output.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpectralBands {
+    /// Number of bands (≥ 1).
+    pub count: usize,
+    /// Short end of the first band, nm.
+    pub min_nm: f32,
+    /// Long end of the last band, nm.
+    pub max_nm: f32,
+}
+
+impl SpectralBands {
+    /// Width of each band, nm.
+    pub fn width_nm(&self) -> f32 {
+        (self.max_nm - self.min_nm) / self.count as f32
+    }
+    /// Centre of band `band`, nm.
+    pub fn center_nm(&self, band: usize) -> f32 {
+        self.min_nm + (band as f32 + 0.5) * self.width_nm()
+    }
+    /// The band holding `lambda_nm`, if any (bands are closed below, open above; the last one
+    /// also holds `max_nm`).
+    #[inline]
+    pub fn band_of(&self, lambda_nm: f32) -> Option<usize> {
+        if !(self.min_nm..=self.max_nm).contains(&lambda_nm) {
+            return None;
+        }
+        let band = ((lambda_nm - self.min_nm) / self.width_nm()) as usize;
+        Some(band.min(self.count - 1))
+    }
+}
+
+/// What every pixel of a film holds.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct FilmLayout {
+    /// S1–S3 beside S0 (a polarised render).
+    pub stokes: bool,
+    /// Mean spectral radiance per band (per Stokes component), for spectral output.
+    pub bands: Option<SpectralBands>,
+    /// The wavelength (nm) of a monochromatic render, whose "XYZ" is (L, L, L).
+    pub monochromatic_nm: Option<f32>,
+}
+
+impl FilmLayout {
+    /// Stokes components held: 4 when polarised, else 1.
+    pub fn components(&self) -> usize {
+        if self.stokes {
+            4
+        } else {
+            1
+        }
+    }
+    /// Band values per pixel (bands × components).
+    pub fn band_values(&self) -> usize {
+        self.bands.map_or(0, |bands| bands.count * self.components())
+    }
+}
+
+/// The running sums of one pixel's samples.
+#[derive(Debug, Clone)]
+pub struct PixelSums {
+    /// Σ XYZ per Stokes component.
+    xyz: [[f64; 3]; 4],
+    /// Σ band estimates, component-major (all of S0's bands, then S1's...).
+    bands: Vec<f64>,
+}
+
+impl PixelSums {
+    /// Empty sums for a pixel of `layout`.
+    pub fn new(layout: &FilmLayout) -> Self {
+        Self { xyz: [[0.0; 3]; 4], bands: vec![0.0; layout.band_values()] }
+    }
+
+    /// Back to zero, keeping the allocation.
+    pub fn clear(&mut self) {
+        self.xyz = [[0.0; 3]; 4];
+        self.bands.fill(0.0);
+    }
+
+    /// Adds one camera sample's light `beam` at `wavelengths`.
+    #[inline]
+    pub fn add<B: Beam>(&mut self, beam: &B, wavelengths: &SampledWavelengths, layout: &FilmLayout) {
+        for (k, component) in beam.components().iter().enumerate() {
+            let xyz = cie::to_xyz(component, wavelengths);
+            for (sum, value) in self.xyz[k].iter_mut().zip(xyz.to_array()) {
+                *sum += f64::from(value);
+            }
+        }
+        let Some(bands) = &layout.bands else { return };
+        // Band mean of L: (1/Δλ)·∫_band L dλ, estimated like `to_xyz` with an indicator for the
+        // colour-matching function: Σ_active L(λ_i)/p(λ_i) / active over the lanes in the band.
+        let active = wavelengths.active();
+        let scale = 1.0 / (active as f64 * f64::from(bands.width_nm()));
+        for lane in 0..active {
+            let lambda_nm = wavelengths.lambda_nm(lane);
+            let Some(band) = bands.band_of(lambda_nm) else { continue };
+            let inverse_pdf = if wavelengths.is_monochromatic() {
+                // One fixed wavelength: the band holding it gets the radiance itself.
+                f64::from(bands.width_nm())
+            } else {
+                1.0 / f64::from(wavelengths.pdf_per_nm(lane))
+            };
+            for (k, component) in beam.components().iter().enumerate() {
+                self.bands[k * bands.count + band] += f64::from(component[lane]) * inverse_pdf * scale;
+            }
+        }
+    }
+}
 
 /// A finished image: row-major, top row first.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Film {
     width: u32,
     height: u32,
+    layout: FilmLayout,
     xyz: Vec<Vec3>,
-    monochromatic_nm: Option<f32>,
+    stokes_xyz: Vec<[Vec3; 3]>,
+    bands: Vec<f32>,
+}
+
+/// One pixel's means, as [`Film::assemble`] takes them.
+#[derive(Debug, Clone, Default)]
+pub struct PixelMeans {
+    /// Mean XYZ of S0.
+    pub xyz: Vec3,
+    /// Mean XYZ of S1, S2, S3 (zero when unpolarised).
+    pub stokes_xyz: [Vec3; 3],
+    /// Band means, component-major.
+    pub bands: Vec<f32>,
+}
+
+impl PixelSums {
+    /// The means over `samples` samples.
+    pub fn means(&self, samples: u32) -> PixelMeans {
+        let n = f64::from(samples);
+        let mean =
+            |sums: &[f64; 3]| Vec3::new((sums[0] / n) as f32, (sums[1] / n) as f32, (sums[2] / n) as f32);
+        PixelMeans {
+            xyz: mean(&self.xyz[0]),
+            stokes_xyz: [mean(&self.xyz[1]), mean(&self.xyz[2]), mean(&self.xyz[3])],
+            bands: self.bands.iter().map(|&sum| (sum / n) as f32).collect(),
+        }
+    }
 }
 
 impl Film {
-    /// A film from per-pixel XYZ values (or radiance in all three channels when
-    /// `monochromatic_nm` is set). Panics if `xyz.len() != width·height`.
+    /// A film from per-pixel S0 XYZ values (or radiance in all three channels when
+    /// `monochromatic_nm` is set), unpolarised, without bands. Panics if `xyz.len() !=
+    /// width·height`.
     pub fn new(width: u32, height: u32, xyz: Vec<Vec3>, monochromatic_nm: Option<f32>) -> Self {
         assert_eq!(xyz.len(), width as usize * height as usize, "film size mismatch");
-        Self { width, height, xyz, monochromatic_nm }
+        let layout = FilmLayout { monochromatic_nm, ..FilmLayout::default() };
+        Self { width, height, layout, xyz, stokes_xyz: Vec::new(), bands: Vec::new() }
     }
+
+    /// A film of `layout` from its pixels' means in row-major order. Panics if there are not
+    /// `width·height` pixels.
+    pub fn assemble(width: u32, height: u32, layout: FilmLayout, pixels: Vec<PixelMeans>) -> Self {
+        assert_eq!(pixels.len(), width as usize * height as usize, "film size mismatch");
+        let xyz = pixels.iter().map(|p| p.xyz).collect();
+        let stokes_xyz =
+            if layout.stokes { pixels.iter().map(|p| p.stokes_xyz).collect() } else { Vec::new() };
+        let bands = pixels.into_iter().flat_map(|p| p.bands).collect();
+        Self { width, height, layout, xyz, stokes_xyz, bands }
+    }
+
     /// Width in pixels.
     pub fn width(&self) -> u32 {
         self.width
@@ -29,20 +185,93 @@ impl Film {
     pub fn height(&self) -> u32 {
         self.height
     }
-    /// Per-pixel CIE XYZ (monochromatic mode: radiance L in every channel).
+    /// What each pixel holds.
+    pub fn layout(&self) -> &FilmLayout {
+        &self.layout
+    }
+    /// Per-pixel CIE XYZ of S0 (monochromatic mode: radiance L in every channel).
     pub fn xyz(&self) -> &[Vec3] {
         &self.xyz
     }
     /// The wavelength (nm) of a monochromatic render.
     pub fn monochromatic_nm(&self) -> Option<f32> {
-        self.monochromatic_nm
+        self.layout.monochromatic_nm
     }
-    /// Per-pixel linear sRGB (Rec. 709 primaries, D65 white). In monochromatic mode, the
+    /// Per-pixel XYZ of Stokes component `k` (0–3); `None` for S1–S3 of an unpolarised film.
+    pub fn stokes_xyz(&self, k: usize) -> Option<Vec<Vec3>> {
+        match k {
+            0 => Some(self.xyz.clone()),
+            1..=3 if self.layout.stokes => Some(self.stokes_xyz.iter().map(|s| s[k - 1]).collect()),
+            _ => None,
+        }
+    }
+    /// Per-pixel mean spectral radiance of Stokes component `k` in band `band`, if the film has
+    /// bands (and that component).
+    pub fn band(&self, k: usize, band: usize) -> Option<Vec<f32>> {
+        let bands = self.layout.bands?;
+        if k >= self.layout.components() || band >= bands.count {
+            return None;
+        }
+        let per_pixel = self.layout.band_values();
+        let offset = k * bands.count + band;
+        Some(self.bands.chunks_exact(per_pixel).map(|values| values[offset]).collect())
+    }
+    /// Per-pixel linear sRGB (Rec. 709 primaries, D65 white) of S0. In monochromatic mode, the
     /// radiance in all three channels (a grey image).
     pub fn linear_srgb(&self) -> Vec<Vec3> {
-        match self.monochromatic_nm {
-            Some(_) => self.xyz.clone(),
-            None => self.xyz.iter().map(|&xyz| xyz_to_linear_srgb(xyz)).collect(),
+        self.to_display(&self.xyz)
+    }
+    /// Per-pixel linear sRGB of Stokes component `k` (signed for S1–S3: the same linear map).
+    pub fn stokes_srgb(&self, k: usize) -> Option<Vec<Vec3>> {
+        self.stokes_xyz(k).map(|xyz| self.to_display(&xyz))
+    }
+
+    fn to_display(&self, xyz: &[Vec3]) -> Vec<Vec3> {
+        match self.layout.monochromatic_nm {
+            Some(_) => xyz.to_vec(),
+            None => xyz.iter().map(|&v| xyz_to_linear_srgb(v)).collect(),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::polarization::Stokes;
+    use crate::spectrum::{SampledSpectrum, N_LAMBDA};
+
+    #[test]
+    fn bands_partition_their_range() {
+        let bands = SpectralBands { count: 4, min_nm: 400.0, max_nm: 800.0 };
+        assert_eq!(bands.band_of(400.0), Some(0));
+        assert_eq!(bands.band_of(499.9), Some(0));
+        assert_eq!(bands.band_of(500.0), Some(1));
+        assert_eq!(bands.band_of(800.0), Some(3));
+        assert_eq!(bands.band_of(399.0), None);
+        assert_eq!(bands.center_nm(1), 550.0);
+    }
+
+    /// An equal-energy radiance of 1 has a band mean of 1 in every band, in expectation: the
+    /// average over stratified wavelength samples converges to it.
+    #[test]
+    fn band_means_of_a_flat_spectrum_are_its_value() {
+        let layout = FilmLayout {
+            stokes: true,
+            bands: Some(SpectralBands { count: 5, min_nm: 380.0, max_nm: 780.0 }),
+            monochromatic_nm: None,
+        };
+        let mut sums = PixelSums::new(&layout);
+        let samples = 4096;
+        for i in 0..samples {
+            let wavelengths = SampledWavelengths::sample_visible((i as f32 + 0.5) / samples as f32, N_LAMBDA);
+            let light = Stokes::unpolarized(SampledSpectrum::splat(1.0));
+            sums.add(&light, &wavelengths, &layout);
+        }
+        let means = sums.means(samples);
+        for band in 0..5 {
+            assert!((means.bands[band] - 1.0).abs() < 0.01, "band {band}: {}", means.bands[band]);
+            assert_eq!(means.bands[5 + band], 0.0, "S1 of unpolarised light");
+        }
+        assert!((means.xyz.y - 1.0).abs() < 1e-3, "{}", means.xyz);
     }
 }

@@ -12,6 +12,7 @@ pub mod light;
 pub mod material;
 pub mod optics;
 pub mod output;
+pub mod polarization;
 pub mod render;
 pub mod sampler;
 pub mod scene;

@@ -6,15 +6,15 @@
 
 use std::time::{Duration, Instant};
 
-use glam::Vec3;
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 
-use crate::film::Film;
-use crate::integrator::{Fault, TraceStats, Whitted};
+use crate::film::{Film, FilmLayout, PixelMeans, PixelSums, SpectralBands};
+use crate::integrator::{Beam, Fault, TraceStats, Whitted};
+use crate::polarization::Stokes;
 use crate::sampler::{PixelKey, PixelRng};
 use crate::scene::{RenderSettings, Scene};
-use crate::spectrum::{cie, SampledWavelengths};
+use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 
 /// Side of the square tiles rendered as units of parallel work, in pixels.
 const TILE: u32 = 16;
@@ -34,12 +34,25 @@ pub struct Job {
     pub progress: bool,
     /// A deliberate physics error, for proving that validation catches it; `None` normally.
     pub fault: Option<Fault>,
+    /// Also record the mean spectral radiance in these bands (spectral output).
+    pub bands: Option<SpectralBands>,
 }
 
 impl Job {
-    /// A colour render with `settings`, one thread per core, no progress bar, no fault.
+    /// A colour render with `settings`, one thread per core, no progress bar, no fault, no
+    /// spectral bands.
     pub fn new(settings: RenderSettings) -> Self {
-        Self { settings, threads: 0, monochromatic_nm: None, progress: false, fault: None }
+        Self { settings, threads: 0, monochromatic_nm: None, progress: false, fault: None, bands: None }
+    }
+
+    /// True when the render carries Stokes vectors: the scene asks for it and no fault drops it.
+    pub fn polarized(&self) -> bool {
+        self.settings.polarized && self.fault != Some(Fault::Unpolarized)
+    }
+
+    /// What each pixel of the film holds.
+    pub fn layout(&self) -> FilmLayout {
+        FilmLayout { stokes: self.polarized(), bands: self.bands, monochromatic_nm: self.monochromatic_nm }
     }
 }
 
@@ -95,14 +108,19 @@ pub fn render(scene: &Scene, job: &Job) -> Result<(Film, RenderStats), RenderErr
         job.settings.area_light_samples,
     )
     .with_fault(job.fault);
-    let rendered: Vec<(Vec<Vec3>, TraceStats)> = pool.install(|| {
+    let layout = job.layout();
+    let rendered: Vec<(Vec<PixelMeans>, TraceStats)> = pool.install(|| {
         tiles
             .par_iter()
             // One tile per work item: rayon's default splitting stops early and left one core
             // idle at the end of a render (1.67× → 1.98× from 1 to 2 threads on the showcase).
             .with_max_len(1)
             .map(|&(x0, y0)| {
-                let tile = render_tile(scene, &integrator, job, x0, y0);
+                let tile = if layout.stokes {
+                    render_tile::<Stokes>(scene, &integrator, job, &layout, x0, y0)
+                } else {
+                    render_tile::<SampledSpectrum>(scene, &integrator, job, &layout, x0, y0)
+                };
                 progress.inc(1);
                 tile
             })
@@ -110,14 +128,14 @@ pub fn render(scene: &Scene, job: &Job) -> Result<(Film, RenderStats), RenderErr
     });
     progress.finish_and_clear();
 
-    let mut xyz = vec![Vec3::ZERO; width as usize * height as usize];
+    let mut pixels = vec![PixelMeans::default(); width as usize * height as usize];
     let mut rays = 0;
-    for (&(x0, y0), (pixels, stats)) in tiles.iter().zip(&rendered) {
+    for (&(x0, y0), (tile_pixels, stats)) in tiles.iter().zip(rendered) {
         rays += stats.rays;
         let tile_width = TILE.min(width - x0) as usize;
-        for (row, chunk) in pixels.chunks(tile_width).enumerate() {
-            let start = (y0 as usize + row) * width as usize + x0 as usize;
-            xyz[start..start + tile_width].copy_from_slice(chunk);
+        for (index, means) in tile_pixels.into_iter().enumerate() {
+            let (row, column) = (index / tile_width, index % tile_width);
+            pixels[(y0 as usize + row) * width as usize + x0 as usize + column] = means;
         }
     }
     let stats = RenderStats {
@@ -126,18 +144,26 @@ pub fn render(scene: &Scene, job: &Job) -> Result<(Film, RenderStats), RenderErr
         elapsed: start.elapsed(),
         threads,
     };
-    Ok((Film::new(width, height, xyz, job.monochromatic_nm), stats))
+    Ok((Film::assemble(width, height, layout, pixels), stats))
 }
 
-/// The mean XYZ of every pixel of the tile at (`x0`, `y0`), row-major.
-fn render_tile(scene: &Scene, integrator: &Whitted, job: &Job, x0: u32, y0: u32) -> (Vec<Vec3>, TraceStats) {
+/// The means of every pixel of the tile at (`x0`, `y0`), row-major, carrying beams of type `B`.
+fn render_tile<B: Beam>(
+    scene: &Scene,
+    integrator: &Whitted,
+    job: &Job,
+    layout: &FilmLayout,
+    x0: u32,
+    y0: u32,
+) -> (Vec<PixelMeans>, TraceStats) {
     let (width, height) = (scene.camera.width(), scene.camera.height());
     let settings = &job.settings;
     let mut stats = TraceStats::default();
     let mut pixels = Vec::with_capacity((TILE * TILE) as usize);
+    let mut sums = PixelSums::new(layout);
     for y in y0..(y0 + TILE).min(height) {
         for x in x0..(x0 + TILE).min(width) {
-            let mut sum = [0f64; 3];
+            sums.clear();
             let key = PixelKey::new(settings.seed, x, y);
             for sample in 0..settings.spp {
                 let mut rng = PixelRng::for_sample(key, sample);
@@ -149,15 +175,11 @@ fn render_tile(scene: &Scene, integrator: &Whitted, job: &Job, x0: u32, y0: u32)
                     None => SampledWavelengths::sample_visible(u_lambda, settings.wavelengths),
                 };
                 let ray = scene.camera.ray(x as f32 + jx, y as f32 + jy);
-                let radiance = integrator.radiance(&ray, &wavelengths, &mut rng, &mut stats);
-                let xyz = cie::to_xyz(&radiance, &wavelengths);
-                debug_assert!(xyz.is_finite(), "non-finite sample at pixel ({x}, {y}): {xyz}");
-                for (s, v) in sum.iter_mut().zip(xyz.to_array()) {
-                    *s += f64::from(v);
-                }
+                let frame_x = if B::POLARIZED { scene.camera.stokes_x(ray.dir) } else { ray.dir };
+                let light: B = integrator.radiance(&ray, frame_x, &wavelengths, &mut rng, &mut stats);
+                sums.add(&light, &wavelengths, layout);
             }
-            let n = f64::from(settings.spp);
-            pixels.push(Vec3::new((sum[0] / n) as f32, (sum[1] / n) as f32, (sum[2] / n) as f32));
+            pixels.push(sums.means(settings.spp));
         }
     }
     (pixels, stats)

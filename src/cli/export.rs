@@ -15,7 +15,7 @@ use serde_json::{json, Map, Value};
 
 use super::{say, CliError};
 use prisma::light::Light;
-use prisma::material::Material;
+use prisma::material::{Conductor, Material};
 use prisma::optics::Ior;
 use prisma::spectrum::{DenseSpectrum, LAMBDA_MAX_NM, LAMBDA_MIN_NM};
 
@@ -51,7 +51,24 @@ pub fn run(args: &ExportArgs) -> Result<(), CliError> {
             Material::Mirror(m) => json!({
                 "type": "mirror",
                 "reflectance": table(&m.reflectance),
-                "metal": m.metal.map(|metal| metal.name()),
+                "metal": match m.conductor {
+                    Conductor::Metal(metal) => Some(metal.name()),
+                    _ => None,
+                },
+                "complex_ior": match m.conductor {
+                    Conductor::Index(eta) => Some([eta.re, eta.im]),
+                    _ => None,
+                },
+            }),
+            Material::Polarizer(p) => json!({
+                "type": "polarizer",
+                "axis": p.axis.to_array(),
+                "transmittance": table(&p.transmittance),
+            }),
+            Material::Retarder(r) => json!({
+                "type": "retarder",
+                "fast_axis": r.fast_axis.to_array(),
+                "retardance_deg": r.retardance_rad.to_degrees(),
             }),
             Material::Dielectric(d) => json!({
                 "type": "dielectric",

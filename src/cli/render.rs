@@ -7,6 +7,7 @@ use anyhow::{anyhow, Context};
 use clap::Args;
 
 use super::{say, CliError};
+use prisma::film::SpectralBands;
 use prisma::output::{atomic::write_text, exr::write_exr, png::write_png};
 use prisma::render::{render, Job};
 use prisma::scene::build::{MAX_DEPTH, MAX_RESOLUTION, MAX_SPP};
@@ -53,6 +54,19 @@ pub struct RenderArgs {
     /// Also write the render's figures (time without loading and writing, rays, samples) as JSON.
     #[arg(long, value_name = "STATS.json")]
     stats: Option<PathBuf>,
+    /// Unpolarised transport: each interface's reflectance averaged over s and p, no Stokes
+    /// layers. Faster, and wrong wherever light meets a second interface polarised.
+    #[arg(long, conflicts_with = "polarized")]
+    unpolarized: bool,
+    /// Polarised transport even if the scene file turns it off.
+    #[arg(long)]
+    polarized: bool,
+    /// Also write the mean spectral radiance in N bands (Fichet et al. 2021 spectral EXR layout).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=1024))]
+    spectral_bands: Option<u32>,
+    /// Wavelength range of the spectral bands, in nm [default: 360-830].
+    #[arg(long, value_name = "MIN-MAX", requires = "spectral_bands")]
+    spectral_range: Option<String>,
 }
 
 impl RenderArgs {
@@ -72,6 +86,10 @@ impl RenderArgs {
             wavelength: None,
             quiet: false,
             stats: None,
+            unpolarized: false,
+            polarized: false,
+            spectral_bands: None,
+            spectral_range: None,
         }
     }
 }
@@ -88,6 +106,8 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     if !args.exposure.is_finite() {
         return Err(CliError::Input(anyhow!("--exposure must be finite, got {}", args.exposure)));
     }
+    let bands =
+        spectral_bands(args.spectral_bands, args.spectral_range.as_deref()).map_err(CliError::Input)?;
     let mut scene = prisma::scene::load(&args.scene).map_err(|e| CliError::Input(e.into()))?;
 
     let (width, height) = resolution(scene.camera.width(), scene.camera.height(), args.width, args.height)
@@ -100,6 +120,11 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     settings.spp = args.spp.unwrap_or(settings.spp);
     settings.seed = args.seed.unwrap_or(settings.seed);
     settings.max_depth = args.max_depth.unwrap_or(settings.max_depth);
+    if args.unpolarized {
+        settings.polarized = false;
+    } else if args.polarized {
+        settings.polarized = true;
+    }
 
     let stem = match args.wavelength {
         Some(nm) => format!("{}_{nm}nm", scene.name),
@@ -115,13 +140,13 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         monochromatic_nm: args.wavelength,
         progress: show,
         fault: None,
+        // A monochromatic render is written as its one wavelength already.
+        bands: bands.filter(|_| args.wavelength.is_none()),
     };
     let (film, stats) = render(&scene, &job).map_err(|e| CliError::Failed(e.into()))?;
 
     let rgb = film.linear_srgb();
-    write_exr(&exr_path, width, height, &rgb, film.xyz())
-        .with_context(|| "writing the EXR image")
-        .map_err(CliError::Failed)?;
+    write_exr(&exr_path, &film).with_context(|| "writing the EXR image").map_err(CliError::Failed)?;
     write_png(&png_path, width, height, &rgb, args.exposure)
         .with_context(|| "writing the PNG preview")
         .map_err(CliError::Failed)?;
@@ -134,6 +159,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             "height": height,
             "spp": settings.spp,
             "wavelengths_per_sample": settings.wavelengths,
+            "polarized": settings.polarized,
             "threads": stats.threads,
             "render_seconds": seconds,
             "samples": stats.samples,
@@ -147,9 +173,10 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     }
     if !args.quiet {
         say!(
-            "rendered {}: {width}×{height}, {} spp, {} in {seconds:.2} s on {} threads ({:.1} M rays, {:.2} M rays/s)",
+            "rendered {}: {width}×{height}, {} spp, {}, {} in {seconds:.2} s on {} threads ({:.1} M rays, {:.2} M rays/s)",
             args.scene.display(),
             settings.spp,
+            if settings.polarized { "polarised" } else { "unpolarised" },
             match args.wavelength {
                 Some(nm) => format!("λ = {nm} nm"),
                 None => format!("{} λ/sample", settings.wavelengths),
@@ -161,6 +188,29 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         say!("wrote {} and {}", exr_path.display(), png_path.display());
     }
     Ok(())
+}
+
+/// The spectral bands asked for by `--spectral-bands N` and `--spectral-range MIN-MAX`.
+fn spectral_bands(count: Option<u32>, range: Option<&str>) -> anyhow::Result<Option<SpectralBands>> {
+    let Some(count) = count else { return Ok(None) };
+    let (min_nm, max_nm) = match range {
+        None => (LAMBDA_MIN_NM, LAMBDA_MAX_NM),
+        Some(text) => {
+            let parsed = text
+                .split_once('-')
+                .and_then(|(a, b)| Some((a.trim().parse::<f32>().ok()?, b.trim().parse::<f32>().ok()?)));
+            let Some((min_nm, max_nm)) = parsed else {
+                return Err(anyhow!("--spectral-range must be MIN-MAX in nm (e.g. 400-700), got \"{text}\""));
+            };
+            (min_nm, max_nm)
+        }
+    };
+    if !(LAMBDA_MIN_NM <= min_nm && min_nm < max_nm && max_nm <= LAMBDA_MAX_NM) {
+        return Err(anyhow!(
+            "--spectral-range must satisfy {LAMBDA_MIN_NM} ≤ MIN < MAX ≤ {LAMBDA_MAX_NM} nm, got {min_nm}-{max_nm}"
+        ));
+    }
+    Ok(Some(SpectralBands { count: count as usize, min_nm, max_nm }))
 }
 
 /// The output resolution: the scene's, or the flags', keeping the aspect ratio when only one is given.

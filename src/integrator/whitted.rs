@@ -19,17 +19,33 @@
 //! so colour fringes are exact rather than noise. Reflection is not dispersive: the reflected
 //! branch stays shared, with a per-lane Fresnel weight.
 //!
-//! Recursion stops after `max_depth` bounces. Branches whose throughput falls below
+//! Polarisation (on by default, [`crate::polarization`] has the conventions): every branch
+//! returns the Stokes vectors of the light it brings back, in a frame its caller chose. A mirror
+//! or a dielectric asks its children for their light in the s frame of its own incidence, applies
+//! its Mueller matrices there (reflection and refraction, with the phases of total internal
+//! reflection and of metals), and turns the sum into the frame its own caller asked for. Diffuse
+//! surfaces depolarise (direct light is unpolarised, or read as radiance through polarising
+//! sheets on the shadow ray); lights and the background are unpolarised. Unpolarised renders run
+//! the same code on radiance alone ([`super::Beam`]).
+//!
+//! Polarisers and retarders are sheets light passes straight through: a camera branch continues
+//! behind them, and shadow rays cross them, reading the radiance a depolarising receiver gets
+//! through the chain ([`crate::polarization::Detector`]).
+//!
+//! Recursion stops after `max_depth` bounces (a sheet counts as one). Branches whose throughput falls below
 //! `prune_below` go through Russian roulette (kept with probability throughput/prune_below and
 //! reweighted), which leaves the estimate unbiased.
 
 use glam::Vec3;
 
-use super::{Fault, TraceStats};
+use super::{Beam, Fault, TraceStats};
 use crate::geometry::{spawn_origin, Hit, Ray};
 use crate::light::Light;
-use crate::material::{Dielectric, Diffuse, Material};
+use crate::material::{Dielectric, Diffuse, Material, Polarizer, Retarder};
 use crate::optics::{fresnel_dielectric, reflect, refract, DielectricFresnel};
+use crate::polarization::frame::s_axis;
+use crate::polarization::mueller::JonesDiagonal;
+use crate::polarization::{Detector, Mueller, Rotation};
 use crate::sampler::PixelRng;
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, N_LAMBDA};
@@ -37,6 +53,8 @@ use crate::spectrum::{SampledSpectrum, SampledWavelengths, N_LAMBDA};
 /// Shadow rays stop this fraction short of the light so that an emitter's own quad never
 /// occludes it (relative, so it holds at every scene scale).
 const SHADOW_RAY_SHORTENING: f32 = 1e-4;
+/// Most polarising sheets a shadow ray crosses before it counts as blocked.
+const MAX_SHEETS_PER_SHADOW_RAY: usize = 16;
 
 /// The Whitted integrator over one scene.
 pub struct Whitted<'a> {
@@ -45,13 +63,28 @@ pub struct Whitted<'a> {
     prune_below: f32,
     area_light_samples: u32,
     fault: Option<Fault>,
+    /// True when some material is a polariser or retarder (shadow rays must look through them).
+    has_sheets: bool,
+}
+
+/// A sheet light passes straight through, met along a ray.
+enum Sheet<'m> {
+    Polarizer(&'m Polarizer),
+    Retarder(&'m Retarder),
 }
 
 impl<'a> Whitted<'a> {
     /// An integrator for `scene` with at most `max_depth` specular bounces, Russian roulette under
     /// branch weight `prune_below` (0: off) and `area_light_samples` samples per quad light.
     pub fn new(scene: &'a Scene, max_depth: u32, prune_below: f32, area_light_samples: u32) -> Self {
-        Self { scene, max_depth, prune_below, area_light_samples: area_light_samples.max(1), fault: None }
+        Self {
+            scene,
+            max_depth,
+            prune_below,
+            area_light_samples: area_light_samples.max(1),
+            fault: None,
+            has_sheets: scene.materials.iter().any(Material::is_filter),
+        }
     }
 
     /// The same integrator with a deliberate physics error (validation only).
@@ -63,7 +96,6 @@ impl<'a> Whitted<'a> {
     #[inline]
     fn fresnel(&self, cos_theta_i: f32, eta: f32) -> DielectricFresnel {
         match self.fault {
-            None => fresnel_dielectric(cos_theta_i, eta),
             Some(Fault::IorScale(scale)) => fresnel_dielectric(cos_theta_i, eta * scale),
             Some(Fault::SchlickFresnel) => {
                 let exact = fresnel_dielectric(cos_theta_i, eta);
@@ -74,113 +106,209 @@ impl<'a> Whitted<'a> {
                 // Schlick uses the angle on the denser side.
                 let cos = if exact.eta_it > 1.0 { cos_theta_i.abs() } else { exact.cos_theta_t.abs() };
                 let schlick = r0 + (1.0 - r0) * (1.0 - cos).powi(5);
-                DielectricFresnel { reflectance: schlick, ..exact }
+                // The polarised render sees the same approximation: Schlick's reflectance for
+                // both polarisations, the amplitudes keeping their signs.
+                let amplitude = schlick.sqrt();
+                DielectricFresnel {
+                    reflectance: schlick,
+                    reflectance_s: schlick,
+                    reflectance_p: schlick,
+                    r_s: amplitude.copysign(exact.r_s),
+                    r_p: amplitude.copysign(exact.r_p),
+                    ..exact
+                }
             }
+            _ => fresnel_dielectric(cos_theta_i, eta),
         }
     }
 
-    /// Radiance (W·m⁻²·sr⁻¹·nm⁻¹) arriving at the origin of `ray` along it, at `wavelengths`.
-    pub fn radiance(
+    /// The change of Stokes frame from x axis `from` to `to` for light travelling along
+    /// `forward`; transposed under [`Fault::TransposedRotation`].
+    #[inline]
+    fn rotation(&self, forward: Vec3, from: Vec3, to: Vec3) -> Rotation {
+        let rotation = Rotation::between(forward, from, to);
+        if self.fault == Some(Fault::TransposedRotation) {
+            rotation.transposed()
+        } else {
+            rotation
+        }
+    }
+
+    /// An element's matrix as the render uses it: its phase sign flipped under
+    /// [`Fault::FlippedPhase`].
+    #[inline]
+    fn element(&self, element: JonesDiagonal) -> JonesDiagonal {
+        if self.fault == Some(Fault::FlippedPhase) {
+            element.phase_flipped()
+        } else {
+            element
+        }
+    }
+
+    /// Light (W·m⁻²·sr⁻¹·nm⁻¹) arriving at the origin of `ray` along it, at `wavelengths`. A
+    /// polarised beam is expressed in the Stokes frame of x axis `frame_x` (a unit vector
+    /// perpendicular to `ray.dir`; see [`crate::camera::Camera::stokes_x`]).
+    pub fn radiance<B: Beam>(
         &self,
         ray: &Ray,
+        frame_x: Vec3,
         wavelengths: &SampledWavelengths,
         rng: &mut PixelRng,
         stats: &mut TraceStats,
-    ) -> SampledSpectrum {
+    ) -> B {
         let throughput = wavelengths.active_mask();
-        self.trace(ray, wavelengths, throughput, 0, rng, stats) * throughput
+        self.trace::<B>(ray, frame_x, wavelengths, throughput, 0, rng, stats).scaled(throughput)
     }
 
-    /// Radiance along `ray` for a branch of weight `throughput` (only lanes with non-zero
-    /// throughput are meaningful) at recursion depth `depth`.
-    fn trace(
+    /// Light along `ray`, in the frame of x axis `frame_x`, for a branch of weight `throughput`
+    /// (only lanes with non-zero throughput are meaningful) at recursion depth `depth`.
+    #[allow(clippy::too_many_arguments)] // the recursion state is passed flat to stay allocation-free
+    fn trace<B: Beam>(
         &self,
         ray: &Ray,
+        frame_x: Vec3,
         wavelengths: &SampledWavelengths,
         throughput: SampledSpectrum,
         depth: u32,
         rng: &mut PixelRng,
         stats: &mut TraceStats,
-    ) -> SampledSpectrum {
+    ) -> B {
         stats.rays += 1;
         let Some(hit) = self.scene.geometry.intersect(ray, f32::INFINITY) else {
-            return self.scene.background.sample(wavelengths);
+            return B::unpolarized(self.scene.background.sample(wavelengths));
         };
         let surface = self.scene.surfaces[hit.prim as usize];
-        let mut radiance = SampledSpectrum::zero();
+        let mut radiance = B::zero();
         if let Some(emitter) = surface.emitter {
             if let Light::Quad(light) = &self.scene.lights[emitter as usize] {
                 if light.faces(ray.dir) {
-                    radiance += light.radiance.sample(wavelengths);
+                    radiance += B::unpolarized(light.radiance.sample(wavelengths));
                 }
             }
         }
         match &self.scene.materials[surface.material as usize] {
             Material::Black => {}
             Material::Diffuse(diffuse) => {
-                radiance += self.direct_light(diffuse, &hit, ray.dir, wavelengths, rng, stats)
+                radiance +=
+                    B::unpolarized(self.direct_light::<B>(diffuse, &hit, ray.dir, wavelengths, rng, stats))
             }
+            Material::Mirror(_) | Material::Polarizer(_) | Material::Retarder(_)
+                if depth >= self.max_depth => {}
             Material::Mirror(mirror) => {
-                if depth < self.max_depth {
-                    let weight = mirror.reflectance(ray.dir.dot(hit.shading_normal), wavelengths);
-                    let dir = reflect(ray.dir, hit.shading_normal).normalize();
-                    radiance += self.branch(&hit, dir, weight, throughput, wavelengths, depth, rng, stats);
-                }
+                let cos_theta_i = ray.dir.dot(hit.shading_normal);
+                let mueller = if B::POLARIZED {
+                    let mueller = mirror.mueller(cos_theta_i, wavelengths);
+                    if self.fault == Some(Fault::FlippedPhase) {
+                        mueller.phase_flipped()
+                    } else {
+                        mueller
+                    }
+                } else {
+                    Mueller::attenuation(mirror.reflectance(cos_theta_i, wavelengths))
+                };
+                let dir = reflect(ray.dir, hit.shading_normal).normalize();
+                let s = if B::POLARIZED { s_axis(hit.shading_normal, -ray.dir, frame_x) } else { frame_x };
+                let reflected =
+                    self.branch::<B>(&hit, dir, s, mueller.a, throughput, wavelengths, depth, rng, stats);
+                radiance += reflected.through(&mueller).rotated(self.rotation(-ray.dir, s, frame_x));
             }
             Material::Dielectric(dielectric) => {
-                radiance +=
-                    self.dielectric(dielectric, &hit, ray.dir, throughput, wavelengths, depth, rng, stats);
+                radiance += self.dielectric::<B>(
+                    dielectric,
+                    &hit,
+                    ray.dir,
+                    frame_x,
+                    throughput,
+                    wavelengths,
+                    depth,
+                    rng,
+                    stats,
+                );
+            }
+            Material::Polarizer(polarizer) => {
+                radiance += self.sheet::<B>(
+                    Sheet::Polarizer(polarizer),
+                    &hit,
+                    ray.dir,
+                    frame_x,
+                    throughput,
+                    wavelengths,
+                    depth,
+                    rng,
+                    stats,
+                )
+            }
+            Material::Retarder(retarder) => {
+                radiance += self.sheet::<B>(
+                    Sheet::Retarder(retarder),
+                    &hit,
+                    ray.dir,
+                    frame_x,
+                    throughput,
+                    wavelengths,
+                    depth,
+                    rng,
+                    stats,
+                )
             }
         }
         radiance
     }
 
-    /// Traces a child branch leaving `hit` along `dir` with local weight `weight`, and returns its
-    /// weighted radiance. Applies Russian roulette to low-throughput branches.
+    /// Traces a child branch leaving `hit` along `dir`, asking for its light in the frame of
+    /// x axis `frame_x`; `weight` is the unpolarised weight the caller will apply (it decides
+    /// Russian roulette). Returns the child's light, divided by its survival probability when
+    /// roulette kept it.
     #[allow(clippy::too_many_arguments)] // the recursion state is passed flat to stay allocation-free
-    fn branch(
+    fn branch<B: Beam>(
         &self,
         hit: &Hit,
         dir: Vec3,
+        frame_x: Vec3,
         weight: SampledSpectrum,
         throughput: SampledSpectrum,
         wavelengths: &SampledWavelengths,
         depth: u32,
         rng: &mut PixelRng,
         stats: &mut TraceStats,
-    ) -> SampledSpectrum {
+    ) -> B {
         let mut child_throughput = throughput * weight;
         if child_throughput.is_zero() {
-            return SampledSpectrum::zero();
+            return B::zero();
         }
-        let mut weight = weight;
+        let mut survival = None;
         if self.prune_below > 0.0 {
             let strongest = child_throughput.max_value();
             if strongest < self.prune_below {
                 let survive = strongest / self.prune_below;
                 if rng.uniform() >= survive {
-                    return SampledSpectrum::zero();
+                    return B::zero();
                 }
-                weight = weight / survive;
                 child_throughput = child_throughput / survive;
+                survival = Some(survive);
             }
         }
         let child = Ray::new(spawn_origin(hit.point, hit.normal, dir), dir);
-        weight * self.trace(&child, wavelengths, child_throughput, depth + 1, rng, stats)
+        let light = self.trace::<B>(&child, frame_x, wavelengths, child_throughput, depth + 1, rng, stats);
+        match survival {
+            Some(survive) => light.scaled(SampledSpectrum::splat(1.0 / survive)),
+            None => light,
+        }
     }
 
     #[allow(clippy::too_many_arguments)] // the recursion state is passed flat to stay allocation-free
-    fn dielectric(
+    fn dielectric<B: Beam>(
         &self,
         dielectric: &Dielectric,
         hit: &Hit,
         dir: Vec3,
+        frame_x: Vec3,
         throughput: SampledSpectrum,
         wavelengths: &SampledWavelengths,
         depth: u32,
         rng: &mut PixelRng,
         stats: &mut TraceStats,
-    ) -> SampledSpectrum {
+    ) -> B {
         // The ray arrives from the inside when it travels along the outward normal: the segment it
         // just crossed was inside the medium and is attenuated by Beer–Lambert.
         let from_inside = dir.dot(hit.normal) > 0.0;
@@ -189,7 +317,7 @@ impl<'a> Whitted<'a> {
             _ => SampledSpectrum::splat(1.0),
         };
         if depth >= self.max_depth {
-            return SampledSpectrum::zero();
+            return B::zero();
         }
         let throughput = throughput * transmittance;
         let normal = hit.shading_normal;
@@ -197,7 +325,7 @@ impl<'a> Whitted<'a> {
         let live: [bool; N_LAMBDA] = std::array::from_fn(|i| throughput[i] > 0.0);
         let live_count = live.iter().filter(|&&l| l).count();
         if live_count == 0 {
-            return SampledSpectrum::zero();
+            return B::zero();
         }
 
         // Per-lane Fresnel. A non-dispersive glass (or a branch that already carries one lane)
@@ -210,40 +338,126 @@ impl<'a> Whitted<'a> {
             std::array::from_fn(|i| self.fresnel(cos_theta_i, dielectric.ior.eval(wavelengths.lambda_nm(i))))
         };
 
+        // Both branches report in the s frame of this incidence, where the Fresnel matrices are
+        // diagonal; the sum is turned into the caller's frame at the end.
+        let s = if B::POLARIZED { s_axis(normal, -dir, frame_x) } else { frame_x };
         let reflected_dir = reflect(dir, normal).normalize();
-        let reflectance = SampledSpectrum { values: fresnel.map(|f| f.reflectance) };
-        let mut radiance =
-            self.branch(hit, reflected_dir, reflectance, throughput, wavelengths, depth, rng, stats);
+        let reflection = if B::POLARIZED {
+            Mueller::from_lanes(
+                &fresnel.map(|f| self.element(JonesDiagonal::dielectric_reflection(cos_theta_i, &f))),
+            )
+        } else {
+            Mueller::attenuation(SampledSpectrum { values: fresnel.map(|f| f.reflectance) })
+        };
+        let mut radiance = self
+            .branch::<B>(hit, reflected_dir, s, reflection.a, throughput, wavelengths, depth, rng, stats)
+            .through(&reflection);
 
+        // Refraction: the flux matrix times 1/η² (radiance crossing into a denser medium is
+        // multiplied by η² in the direction light flows, so the camera sees 1/η² of it).
         let refract_lane = |lane: usize| {
             let f = &fresnel[lane];
             if f.reflectance >= 1.0 {
                 return None;
             }
             let refracted = refract(dir, normal, 1.0 / f.eta_it)?;
-            Some((refracted.normalize(), (1.0 - f.reflectance) / (f.eta_it * f.eta_it)))
+            let radiance_scale = 1.0 / (f.eta_it * f.eta_it);
+            let element = if B::POLARIZED {
+                JonesDiagonal::dielectric_transmission(f)
+            } else {
+                JonesDiagonal { a: 1.0 - f.reflectance, b: 0.0, w_re: 0.0, w_im: 0.0 }
+            };
+            Some((
+                refracted.normalize(),
+                Mueller::splat(element).scaled(SampledSpectrum::splat(radiance_scale)),
+            ))
         };
         if shared {
-            if let Some((refracted, weight)) = refract_lane(first_live) {
-                let weight = SampledSpectrum::splat(weight);
-                radiance += self.branch(hit, refracted, weight, throughput, wavelengths, depth, rng, stats);
+            if let Some((refracted, transmission)) = refract_lane(first_live) {
+                radiance += self
+                    .branch::<B>(
+                        hit,
+                        refracted,
+                        s,
+                        transmission.a,
+                        throughput,
+                        wavelengths,
+                        depth,
+                        rng,
+                        stats,
+                    )
+                    .through(&transmission);
             }
         } else {
             for lane in (0..N_LAMBDA).filter(|&i| live[i]) {
-                if let Some((refracted, weight)) = refract_lane(lane) {
-                    let weight = SampledSpectrum::splat(weight).only_lane(lane);
+                if let Some((refracted, transmission)) = refract_lane(lane) {
                     let lane_throughput = throughput.only_lane(lane);
-                    let lane_radiance =
-                        self.branch(hit, refracted, weight, lane_throughput, wavelengths, depth, rng, stats);
-                    radiance += lane_radiance.only_lane(lane);
+                    let lane_light = self.branch::<B>(
+                        hit,
+                        refracted,
+                        s,
+                        transmission.a.only_lane(lane),
+                        lane_throughput,
+                        wavelengths,
+                        depth,
+                        rng,
+                        stats,
+                    );
+                    radiance += lane_light.only_lane(lane).through(&transmission);
                 }
             }
         }
-        radiance * transmittance
+        radiance.scaled(transmittance).rotated(self.rotation(-dir, s, frame_x))
+    }
+
+    /// A polariser or retarder met by a camera branch: the branch continues straight through,
+    /// and the light behind is filtered in the element's own frame.
+    #[allow(clippy::too_many_arguments)] // the recursion state is passed flat to stay allocation-free
+    fn sheet<B: Beam>(
+        &self,
+        sheet: Sheet,
+        hit: &Hit,
+        dir: Vec3,
+        frame_x: Vec3,
+        throughput: SampledSpectrum,
+        wavelengths: &SampledWavelengths,
+        depth: u32,
+        rng: &mut PixelRng,
+        stats: &mut TraceStats,
+    ) -> B {
+        let (axis, element, spectrum) = self.sheet_element(&sheet, hit.normal, -dir, wavelengths);
+        let mueller = Mueller::splat(element).scaled(spectrum);
+        let axis = if B::POLARIZED { axis } else { frame_x };
+        self.branch::<B>(hit, dir, axis, mueller.a, throughput, wavelengths, depth, rng, stats)
+            .through(&mueller)
+            .rotated(self.rotation(-dir, axis, frame_x))
+    }
+
+    /// A sheet for light travelling along `forward` through it: its frame's x axis, its
+    /// element (the same at every wavelength) and the transmittance spectrum that scales it.
+    fn sheet_element(
+        &self,
+        sheet: &Sheet,
+        normal: Vec3,
+        forward: Vec3,
+        wavelengths: &SampledWavelengths,
+    ) -> (Vec3, JonesDiagonal, SampledSpectrum) {
+        match sheet {
+            Sheet::Polarizer(polarizer) => (
+                polarizer.transmission_axis(normal, forward),
+                JonesDiagonal::linear_polarizer(1.0),
+                polarizer.transmittance.sample(wavelengths),
+            ),
+            Sheet::Retarder(retarder) => (
+                retarder.fast_axis_across(normal, forward),
+                self.element(JonesDiagonal::linear_retarder(retarder.retardance_rad)),
+                SampledSpectrum::splat(1.0),
+            ),
+        }
     }
 
     /// Direct light at a diffuse hit seen along `dir`.
-    fn direct_light(
+    fn direct_light<B: Beam>(
         &self,
         diffuse: &Diffuse,
         hit: &Hit,
@@ -261,6 +475,38 @@ impl<'a> Whitted<'a> {
         };
         let mut radiance = SampledSpectrum::zero();
         for light in &self.scene.lights {
+            if self.has_sheets {
+                // Each sample's sheets filter it by their own spectra.
+                let mut filtered = SampledSpectrum::zero();
+                let mut add = |sample: crate::light::LightSample| {
+                    if let Some((weight, spectrum)) = self.through_sheets::<B>(
+                        diffuse,
+                        hit,
+                        normal,
+                        shading_normal,
+                        to_viewer,
+                        sample,
+                        wavelengths,
+                        stats,
+                    ) {
+                        filtered += spectrum * weight;
+                    }
+                };
+                match light {
+                    Light::Point(point) => point.sample(hit.point).into_iter().for_each(&mut add),
+                    Light::Quad(quad) => {
+                        let count = self.area_light_samples;
+                        let shift = (rng.uniform(), rng.uniform());
+                        (0..count)
+                            .filter_map(|index| quad.sample(hit.point, index, count, shift))
+                            .for_each(&mut add);
+                    }
+                }
+                if !filtered.is_zero() {
+                    radiance += light.emitted().sample(wavelengths) * filtered;
+                }
+                continue;
+            }
             // The unoccluded samples' weights first; the light's spectrum once, if any is lit.
             let weight = match light {
                 Light::Point(point) => point.sample(hit.point).map_or(0.0, |sample| {
@@ -311,5 +557,67 @@ impl<'a> Whitted<'a> {
             return 0.0;
         }
         sample.weight * cos_theta * diffuse.shape_factor(shading_normal, sample.to_light, to_viewer)
+    }
+
+    /// As [`Self::shadowed`] in a scene with polarising sheets: the shadow ray crosses sheets,
+    /// and the diffuse receiver reads the radiance of the unpolarised light after them. Returns
+    /// the geometric weight (with the sheets' polarisation) and the product of their
+    /// transmittance spectra, or `None` when blocked.
+    #[allow(clippy::too_many_arguments)] // small helper; a struct would only rename the same values
+    fn through_sheets<B: Beam>(
+        &self,
+        diffuse: &Diffuse,
+        hit: &Hit,
+        normal: Vec3,
+        shading_normal: Vec3,
+        to_viewer: Vec3,
+        sample: crate::light::LightSample,
+        wavelengths: &SampledWavelengths,
+        stats: &mut TraceStats,
+    ) -> Option<(f32, SampledSpectrum)> {
+        let cos_theta = shading_normal.dot(sample.to_light);
+        if cos_theta <= 0.0 || normal.dot(sample.to_light) <= 0.0 {
+            return None;
+        }
+        let forward = -sample.to_light;
+        let mut origin = spawn_origin(hit.point, normal, sample.to_light);
+        let mut remaining = sample.distance * (1.0 - SHADOW_RAY_SHORTENING);
+        let mut detector = Detector::RADIANCE;
+        let mut spectrum = SampledSpectrum::splat(1.0);
+        let mut detector_x: Option<Vec3> = None;
+        for _ in 0..=MAX_SHEETS_PER_SHADOW_RAY {
+            stats.rays += 1;
+            let ray = Ray::new(origin, sample.to_light);
+            let Some(blocker) = self.scene.geometry.intersect(&ray, remaining) else {
+                let weight = detector.unpolarized_response()
+                    * sample.weight
+                    * cos_theta
+                    * diffuse.shape_factor(shading_normal, sample.to_light, to_viewer);
+                return (weight > 0.0).then_some((weight, spectrum));
+            };
+            let sheet =
+                match &self.scene.materials[self.scene.surfaces[blocker.prim as usize].material as usize] {
+                    Material::Polarizer(polarizer) => Sheet::Polarizer(polarizer),
+                    Material::Retarder(retarder) => Sheet::Retarder(retarder),
+                    _ => return None,
+                };
+            let (axis, element, transmittance) =
+                self.sheet_element(&sheet, blocker.normal, forward, wavelengths);
+            if B::POLARIZED {
+                // The detector's frame so far is the previous sheet's: Stokes vectors come to it
+                // from this sheet's frame.
+                if let Some(x) = detector_x {
+                    detector = detector.rotated(self.rotation(forward, axis, x));
+                }
+                detector = detector.through(&element);
+                detector_x = Some(axis);
+            } else {
+                detector = detector.through(&JonesDiagonal::attenuator(element.a));
+            }
+            spectrum *= transmittance;
+            remaining -= blocker.t;
+            origin = spawn_origin(blocker.point, blocker.normal, sample.to_light);
+        }
+        None
     }
 }

@@ -1,7 +1,8 @@
-//! [`Mirror`]: a perfect specular reflector, `f = ρ(λ, θ) δ(ω_o − reflect(ω_i))`: either a
-//! constant-per-angle reflectance spectrum, or a real metal whose reflectance follows the
-//! conductor Fresnel equations for its tabulated complex index n + ik (times the optional
-//! reflectance spectrum).
+//! [`Mirror`]: a perfect specular reflector, `f = ρ(λ, θ) δ(ω_o − reflect(ω_i))`: an ideal mirror
+//! (a perfect electric conductor: every polarisation reflected whole, with the phases
+//! r_s = −1, r_p = +1), or a conductor of complex index n + ik, tabulated for real metals or
+//! given as a constant, whose s and p amplitudes follow the conductor Fresnel equations; either
+//! times the optional reflectance spectrum.
 //!
 //! ```toml
 //! [materials.silvered]
@@ -11,38 +12,86 @@
 //! [materials.gold]
 //! type = "mirror"
 //! metal = "gold"          # silver, aluminium, gold, copper (data/metals/)
+//!
+//! [materials.gold_at_550]
+//! type = "mirror"
+//! complex_ior = [0.35, 2.71]   # a constant n + ik (n > 0, k ≥ 0)
 //! ```
 
-use crate::optics::conductor::fresnel_conductor;
+use num_complex::Complex32;
+
+use crate::optics::conductor::{fresnel_conductor, fresnel_conductor_amplitudes};
 use crate::optics::metals::MetalEntry;
-use crate::spectrum::{DenseSpectrum, SampledSpectrum, SampledWavelengths};
+use crate::polarization::mueller::{JonesDiagonal, Mueller};
+use crate::spectrum::{DenseSpectrum, SampledSpectrum, SampledWavelengths, N_LAMBDA};
+
+/// What a mirror's surface is made of.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Conductor {
+    /// An ideal mirror: a perfect electric conductor.
+    Perfect,
+    /// A metal of the catalogue, with its tabulated n + ik(λ).
+    Metal(&'static MetalEntry),
+    /// A constant complex index n + ik (relative to the vacuum outside).
+    Index(Complex32),
+}
+
+impl Conductor {
+    /// The complex index n + ik at `lambda_nm`, or `None` for the perfect conductor.
+    #[inline]
+    pub fn eta(&self, lambda_nm: f32) -> Option<Complex32> {
+        match self {
+            Conductor::Perfect => None,
+            Conductor::Metal(metal) => Some(metal.eta(lambda_nm)),
+            Conductor::Index(eta) => Some(*eta),
+        }
+    }
+}
 
 /// A perfect mirror.
 #[derive(Debug, Clone)]
 pub struct Mirror {
-    /// Fraction of radiance reflected, per wavelength (multiplies the metal's Fresnel term).
+    /// Fraction of radiance reflected, per wavelength (multiplies the conductor's Fresnel term).
     pub reflectance: DenseSpectrum,
-    /// A metal whose Fresnel reflectance applies, if any.
-    pub metal: Option<&'static MetalEntry>,
+    /// The conductor whose Fresnel amplitudes apply.
+    pub conductor: Conductor,
 }
 
 impl Mirror {
-    /// Reflectance at the lanes of `wavelengths` for incidence at `cos_theta_i` (|cos θ| is
-    /// used: mirrors reflect on both sides).
+    /// Reflectance of unpolarised light at the lanes of `wavelengths` for incidence at
+    /// `cos_theta_i` (|cos θ| is used: mirrors reflect on both sides).
     #[inline]
     pub fn reflectance(&self, cos_theta_i: f32, wavelengths: &SampledWavelengths) -> SampledSpectrum {
         let base = self.reflectance.sample(wavelengths);
-        match self.metal {
-            None => base,
-            Some(metal) => {
-                let cos = cos_theta_i.abs().min(1.0);
-                base * SampledSpectrum {
-                    values: std::array::from_fn(|i| {
-                        fresnel_conductor(cos, metal.eta(wavelengths.lambda_nm(i))).reflectance
-                    }),
-                }
-            }
+        if self.conductor == Conductor::Perfect {
+            return base;
         }
+        let cos = cos_theta_i.abs().min(1.0);
+        base * SampledSpectrum {
+            values: std::array::from_fn(|i| match self.conductor.eta(wavelengths.lambda_nm(i)) {
+                Some(eta) => fresnel_conductor(cos, eta).reflectance,
+                None => 1.0,
+            }),
+        }
+    }
+
+    /// The Mueller matrix of the reflection in the s/p frame of the incidence (x = s), at the
+    /// lanes of `wavelengths`, for incidence at `cos_theta_i`.
+    pub fn mueller(&self, cos_theta_i: f32, wavelengths: &SampledWavelengths) -> Mueller {
+        let base = self.reflectance.sample(wavelengths);
+        let elements: [JonesDiagonal; N_LAMBDA] = match self.conductor {
+            Conductor::Perfect => [JonesDiagonal::PERFECT_CONDUCTOR; N_LAMBDA],
+            Conductor::Index(eta) => {
+                let (r_s, r_p) = fresnel_conductor_amplitudes(cos_theta_i, eta);
+                [JonesDiagonal::new(r_s, r_p); N_LAMBDA]
+            }
+            Conductor::Metal(metal) => std::array::from_fn(|i| {
+                let (r_s, r_p) =
+                    fresnel_conductor_amplitudes(cos_theta_i, metal.eta(wavelengths.lambda_nm(i)));
+                JonesDiagonal::new(r_s, r_p)
+            }),
+        };
+        Mueller::from_lanes(&elements).scaled(base)
     }
 }
 
@@ -52,8 +101,8 @@ mod tests {
     use crate::optics::metals;
 
     fn at(metal: &str, lambda_nm: f32, cos_theta: f32) -> f32 {
-        let mirror = Mirror { reflectance: DenseSpectrum::constant(1.0), metal: metals::metal(metal) };
-        assert!(mirror.metal.is_some(), "{metal} missing from the catalogue");
+        let entry = metals::metal(metal).unwrap_or_else(|| panic!("{metal} missing from the catalogue"));
+        let mirror = Mirror { reflectance: DenseSpectrum::constant(1.0), conductor: Conductor::Metal(entry) };
         mirror.reflectance(cos_theta, &SampledWavelengths::monochromatic(lambda_nm))[0]
     }
 
@@ -72,9 +121,29 @@ mod tests {
 
     #[test]
     fn plain_mirror_ignores_angle() {
-        let mirror = Mirror { reflectance: DenseSpectrum::constant(0.7), metal: None };
+        let mirror = Mirror { reflectance: DenseSpectrum::constant(0.7), conductor: Conductor::Perfect };
         let wavelengths = SampledWavelengths::monochromatic(500.0);
         assert_eq!(mirror.reflectance(0.2, &wavelengths)[0], 0.7);
         assert_eq!(mirror.reflectance(-1.0, &wavelengths)[0], 0.7);
+    }
+
+    /// The Mueller matrix's unpolarised part is the reflectance, for metals and ideal mirrors.
+    #[test]
+    fn mueller_intensity_is_the_reflectance() {
+        let wavelengths = SampledWavelengths::sample_visible(0.3, 8);
+        for conductor in [
+            Conductor::Perfect,
+            Conductor::Index(Complex32::new(0.35, 2.71)),
+            Conductor::Metal(metals::metal("gold").unwrap()),
+        ] {
+            let mirror = Mirror { reflectance: DenseSpectrum::constant(0.9), conductor };
+            for cos in [1.0f32, 0.6, 0.1] {
+                let m = mirror.mueller(cos, &wavelengths);
+                let r = mirror.reflectance(cos, &wavelengths);
+                for lane in 0..N_LAMBDA {
+                    assert!((m.a[lane] - r[lane]).abs() < 1e-5, "{conductor:?} cos {cos}");
+                }
+            }
+        }
     }
 }

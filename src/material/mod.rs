@@ -1,13 +1,20 @@
 //! Materials: how a surface scatters light in prisma's Whitted model. A closed set, dispatched by
-//! `match`: diffuse surfaces take direct light, mirrors and dielectrics spawn specular branches.
+//! `match`: diffuse surfaces take direct light, mirrors and dielectrics spawn specular branches,
+//! polarisers and retarders (sheets that only change the polarisation) let light through.
 
 pub mod dielectric;
 pub mod diffuse;
 pub mod mirror;
+pub mod polarizer;
+pub mod retarder;
+
+use glam::Vec3;
 
 pub use dielectric::Dielectric;
 pub use diffuse::Diffuse;
-pub use mirror::Mirror;
+pub use mirror::{Conductor, Mirror};
+pub use polarizer::Polarizer;
+pub use retarder::Retarder;
 
 /// A surface material.
 #[derive(Debug, Clone)]
@@ -18,6 +25,26 @@ pub enum Material {
     Mirror(Mirror),
     /// Smooth dielectric: Fresnel-weighted reflection and refraction.
     Dielectric(Dielectric),
+    /// Ideal linear polariser sheet: light passes straight through, filtered.
+    Polarizer(Polarizer),
+    /// Ideal linear retarder sheet (wave plate): light passes straight through, retarded.
+    Retarder(Retarder),
     /// Reflects nothing (the surface of an area light).
     Black,
+}
+
+impl Material {
+    /// True for the sheets light passes straight through (polarisers and retarders): they let
+    /// shadow rays through and never end a path.
+    #[inline]
+    pub fn is_filter(&self) -> bool {
+        matches!(self, Material::Polarizer(_) | Material::Retarder(_))
+    }
+}
+
+/// `axis` projected onto the plane of normal `normal`, unit length. The scene checks when it is
+/// built that the axis is not along the normal of the flat shapes that use it.
+#[inline]
+fn sheet_axis(axis: Vec3, normal: Vec3) -> Vec3 {
+    (axis - axis.dot(normal) * normal).normalize_or(axis)
 }

@@ -59,6 +59,41 @@ pub fn fresnel_conductor(cos_theta_i: f32, eta: Complex32) -> ConductorFresnel {
     ConductorFresnel { reflectance_s, reflectance_p, reflectance: 0.5 * (reflectance_s + reflectance_p) }
 }
 
+/// Complex amplitude reflection coefficients (r_s, r_p) of a smooth conductor for light from
+/// the exterior at `cos_theta_i` (sign ignored), with `eta` = (n + ik)/n_exterior as users and
+/// data tables give it (k ≥ 0 absorbs).
+///
+/// Phase convention: fields `E·e^{+iωt}` (see [`crate::polarization`]), in which an absorbing
+/// medium has index n − ik; so the formulas use η̄ = n − ik, and η̄·cos θt = √(η̄² − sin²θi)
+/// takes the root with Im ≤ 0, the transmitted wave that decays. Hecht's signs:
+/// ```text
+/// r_s = (cos θi − η̄ cos θt)/(cos θi + η̄ cos θt),   r_p = (η̄² cos θi − η̄ cos θt)/(η̄² cos θi + η̄ cos θt)
+/// ```
+/// |r_s|², |r_p|² are [`fresnel_conductor`]'s R_s, R_p; k = 0 gives the dielectric amplitudes
+/// of [`crate::optics::fresnel_dielectric_amplitudes`], total internal reflection included,
+/// and |η| → ∞ the perfect conductor (−1, +1).
+pub fn fresnel_conductor_amplitudes(cos_theta_i: f32, eta: Complex32) -> (Complex32, Complex32) {
+    debug_assert!(eta.re.is_finite() && eta.im.is_finite() && eta.norm_sqr() > 0.0, "{eta}");
+    let cos_i = cos_theta_i.abs().min(1.0);
+    let sin_i_sqr = (-cos_i).mul_add(cos_i, 1.0);
+    let eta = Complex32::new(eta.re, -eta.im.abs());
+    let eta_sqr = eta * eta;
+    let mut eta_cos_t = (eta_sqr - sin_i_sqr).sqrt();
+    if eta_cos_t.im > 0.0 {
+        eta_cos_t = -eta_cos_t;
+    }
+    let ratio = |numerator: Complex32, denominator: Complex32| {
+        if denominator.norm_sqr() > 0.0 {
+            numerator / denominator
+        } else {
+            Complex32::new(0.0, 0.0)
+        }
+    };
+    let r_s = ratio(cos_i - eta_cos_t, cos_i + eta_cos_t);
+    let r_p = ratio(eta_sqr * cos_i - eta_cos_t, eta_sqr * cos_i + eta_cos_t);
+    (r_s, r_p)
+}
+
 fn square(x: f32) -> f32 {
     x * x
 }
@@ -134,6 +169,54 @@ mod tests {
         assert!(samples.windows(2).all(|w| w[1].reflectance_s >= w[0].reflectance_s - 1e-6));
         let grazing = samples[1000];
         assert!((grazing.reflectance - 1.0).abs() < 1e-6, "{grazing:?}");
+    }
+
+    #[test]
+    fn amplitudes_square_to_the_reflectances() {
+        for metal in [eta(0.05, 4.2), eta(0.35, 2.71), eta(1.0, 6.7), eta(2.0, 1.0)] {
+            for i in 0..=50 {
+                let cos_theta_i = i as f32 / 50.0;
+                let (r_s, r_p) = fresnel_conductor_amplitudes(cos_theta_i, metal);
+                let f = fresnel_conductor(cos_theta_i, metal);
+                assert!((r_s.norm_sqr() - f.reflectance_s).abs() < 2e-5, "{metal} {cos_theta_i}");
+                assert!((r_p.norm_sqr() - f.reflectance_p).abs() < 2e-5, "{metal} {cos_theta_i}");
+            }
+        }
+    }
+
+    #[test]
+    fn amplitudes_without_absorption_are_the_dielectric_ones() {
+        // Including the phases of total internal reflection (n < 1 past the critical angle):
+        // the decaying root of the conductor is the dielectric's cos θt = −i·q.
+        for n in [0.6_f32, 1.0 / 1.5, 1.5] {
+            // Within a few ulps of the critical angle cos θt = √(cos² θt) turns one rounding
+            // into errors of 1e-3 whatever the formula (see `fresnel_dielectric_amplitudes`).
+            let cos_critical = (1.0 - n * n).max(0.0).sqrt();
+            for i in (1..=40).filter(|&i| (i as f32 / 40.0 - cos_critical).abs() > 1e-3) {
+                let cos_theta_i = i as f32 / 40.0;
+                let (r_s, r_p) = fresnel_conductor_amplitudes(cos_theta_i, eta(n, 0.0));
+                let dielectric = crate::optics::fresnel_dielectric_amplitudes(cos_theta_i, n);
+                assert!(
+                    (r_s - dielectric.r_s).norm() < 1e-4,
+                    "n {n} cos {cos_theta_i}: {r_s} {}",
+                    dielectric.r_s
+                );
+                assert!(
+                    (r_p - dielectric.r_p).norm() < 1e-4,
+                    "n {n} cos {cos_theta_i}: {r_p} {}",
+                    dielectric.r_p
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn a_huge_index_is_the_perfect_conductor() {
+        for cos_theta_i in [1.0_f32, 0.5, 0.1] {
+            let (r_s, r_p) = fresnel_conductor_amplitudes(cos_theta_i, eta(0.0, 1e5));
+            assert!((r_s - Complex32::new(-1.0, 0.0)).norm() < 1e-3, "{r_s}");
+            assert!((r_p - Complex32::new(1.0, 0.0)).norm() < 1e-3, "{r_p}");
+        }
     }
 
     #[test]

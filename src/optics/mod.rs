@@ -12,7 +12,7 @@ pub mod ior;
 pub mod metals;
 pub mod snell;
 
-pub use conductor::{fresnel_conductor, ConductorFresnel};
+pub use conductor::{fresnel_conductor, fresnel_conductor_amplitudes, ConductorFresnel};
 pub use fresnel::{
     fresnel_dielectric, fresnel_dielectric_amplitudes, DielectricAmplitudes, DielectricFresnel,
 };

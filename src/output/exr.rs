@@ -1,11 +1,24 @@
-//! OpenEXR output through the `exr` crate: one part, 32-bit float channels R, G, B, A (linear
-//! sRGB: Rec. 709 primaries, D65 white, declared in the `chromaticities` attribute) and an `XYZ`
-//! layer (channels `XYZ.X`, `XYZ.Y`, `XYZ.Z`, CIE 1931 with Y = 1 for an equal-energy radiance of
-//! 1 W·m⁻²·sr⁻¹·nm⁻¹). In a monochromatic render every channel holds the spectral radiance.
+//! OpenEXR output through the `exr` crate: one part of 32-bit float channels.
+//!
+//! A colour render holds R, G, B, A (linear sRGB: Rec. 709 primaries, D65 white, declared in the
+//! `chromaticities` attribute) and an `XYZ` layer (`XYZ.X`, `XYZ.Y`, `XYZ.Z`, CIE 1931 with
+//! Y = 1 for an equal-energy radiance of 1 W·m⁻²·sr⁻¹·nm⁻¹). A polarised one adds the Stokes
+//! layers `S0`–`S3` with channels R, G, B each, as Mitsuba 3's `stokes` integrator writes them
+//! (S0 equals the RGB image; S1–S3 are signed, in the frame of
+//! [`crate::camera::Camera::stokes_x`]).
+//!
+//! Spectral output follows the OpenEXR spectral layout of Fichet, Pacanowski and Wilkie (JCGT
+//! 10(3), 2021): channels `S<k>.<λ>nm` with a comma as decimal separator
+//! (`S0.560,000000nm`), one per band and Stokes component, each the mean spectral radiance
+//! over its band (W·m⁻²·sr⁻¹·nm⁻¹, although the layout's `emissiveUnits` attribute only knows
+//! "W.m^-2.sr^-1"), with the attributes `spectralLayoutVersion` = "1.0", `emissiveUnits` and,
+//! when polarised, `polarisationHandedness` = "right" (S3 > 0: the field turns clockwise for
+//! the receiver). A monochromatic render is written as what it is: only the channels
+//! `S<k>.<λ>nm` of its one wavelength, and the wavelength in the attribute `wavelengthNm`.
 
 use std::path::Path;
 
-use ::exr::meta::attribute::{Chromaticities, LineOrder};
+use ::exr::meta::attribute::{AttributeValue, Chromaticities, LineOrder, Text};
 use ::exr::prelude::{
     read_all_flat_layers_from_file, AnyChannel, AnyChannels, Encoding, FlatSamples, Image, Layer,
     LayerAttributes, Vec2, WritableImage,
@@ -14,42 +27,87 @@ use glam::Vec3;
 
 use super::atomic::write_atomically;
 use super::OutputError;
+use crate::film::Film;
 
-/// Writes `rgb` (linear sRGB) and `xyz` (row-major, top row first) to an EXR file.
-pub fn write_exr(
-    path: &Path,
-    width: u32,
-    height: u32,
-    rgb: &[Vec3],
-    xyz: &[Vec3],
-) -> Result<(), OutputError> {
-    let channel = |name: &str, values: &[Vec3], component: usize| {
-        AnyChannel::new(name, FlatSamples::F32(values.iter().map(|v| v[component]).collect()))
+/// The Fichet et al. channel name of Stokes component `k` at `lambda_nm`: `S0.560,000000nm`.
+pub fn spectral_channel_name(k: usize, lambda_nm: f32) -> String {
+    format!("S{k}.{}nm", format!("{lambda_nm:.6}").replace('.', ","))
+}
+
+/// Writes `film` to an EXR file at `path` (the layout is in the module documentation).
+pub fn write_exr(path: &Path, film: &Film) -> Result<(), OutputError> {
+    let layout = *film.layout();
+    let components = layout.components();
+    let vec3_channel = |name: String, values: &[Vec3], component: usize| {
+        AnyChannel::new(name.as_str(), FlatSamples::F32(values.iter().map(|v| v[component]).collect()))
     };
-    let channels = AnyChannels::sort(smallvec::smallvec![
-        channel("R", rgb, 0),
-        channel("G", rgb, 1),
-        channel("B", rgb, 2),
-        AnyChannel::new("A", FlatSamples::F32(vec![1.0; rgb.len()])),
-        channel("XYZ.X", xyz, 0),
-        channel("XYZ.Y", xyz, 1),
-        channel("XYZ.Z", xyz, 2),
-    ]);
+    let mut channels: smallvec::SmallVec<[AnyChannel<FlatSamples>; 4]> = smallvec::SmallVec::new();
+    let mut attributes: Vec<(&str, AttributeValue)> = Vec::new();
+    if let Some(lambda_nm) = layout.monochromatic_nm {
+        for k in 0..components {
+            if let Some(xyz) = film.stokes_xyz(k) {
+                channels.push(vec3_channel(spectral_channel_name(k, lambda_nm), &xyz, 0));
+            }
+        }
+        attributes.push(("wavelengthNm", AttributeValue::F32(lambda_nm)));
+    } else {
+        let rgb = film.linear_srgb();
+        for (c, name) in ["R", "G", "B"].into_iter().enumerate() {
+            channels.push(vec3_channel(name.into(), &rgb, c));
+        }
+        channels.push(AnyChannel::new("A", FlatSamples::F32(vec![1.0; rgb.len()])));
+        for (c, name) in ["XYZ.X", "XYZ.Y", "XYZ.Z"].into_iter().enumerate() {
+            channels.push(vec3_channel(name.into(), film.xyz(), c));
+        }
+        if layout.stokes {
+            for k in 0..4 {
+                if let Some(stokes) = film.stokes_srgb(k) {
+                    for (c, colour) in ["R", "G", "B"].into_iter().enumerate() {
+                        channels.push(vec3_channel(format!("S{k}.{colour}"), &stokes, c));
+                    }
+                }
+            }
+        }
+        if let Some(bands) = layout.bands {
+            for k in 0..components {
+                for band in 0..bands.count {
+                    if let Some(values) = film.band(k, band) {
+                        channels.push(AnyChannel::new(
+                            spectral_channel_name(k, bands.center_nm(band)).as_str(),
+                            FlatSamples::F32(values),
+                        ));
+                    }
+                }
+            }
+        }
+    }
+    if layout.monochromatic_nm.is_some() || layout.bands.is_some() {
+        attributes.push(("spectralLayoutVersion", AttributeValue::Text(Text::from("1.0"))));
+        attributes.push(("emissiveUnits", AttributeValue::Text(Text::from("W.m^-2.sr^-1"))));
+        if layout.stokes {
+            attributes.push(("polarisationHandedness", AttributeValue::Text(Text::from("right"))));
+        }
+    }
     let layer = Layer::new(
-        (width as usize, height as usize),
+        (film.width() as usize, film.height() as usize),
         LayerAttributes::default(),
         // Blocks in increasing order: with the default unspecified order the crate writes the
         // blocks it compresses in parallel as they finish, so two writes of one image differed.
         Encoding { line_order: LineOrder::Increasing, ..Encoding::FAST_LOSSLESS },
-        channels,
+        AnyChannels::sort(channels),
     );
     let mut image = Image::from_layer(layer);
-    image.attributes.chromaticities = Some(Chromaticities {
-        red: Vec2(0.64, 0.33),
-        green: Vec2(0.30, 0.60),
-        blue: Vec2(0.15, 0.06),
-        white: Vec2(0.3127, 0.3290),
-    });
+    if layout.monochromatic_nm.is_none() {
+        image.attributes.chromaticities = Some(Chromaticities {
+            red: Vec2(0.64, 0.33),
+            green: Vec2(0.30, 0.60),
+            blue: Vec2(0.15, 0.06),
+            white: Vec2(0.3127, 0.3290),
+        });
+    }
+    for (name, value) in attributes {
+        image.attributes.other.insert(Text::from(name), value);
+    }
     write_atomically(path, |tmp| {
         image
             .write()
@@ -66,12 +124,22 @@ pub struct ExrImage {
     /// Height in pixels.
     pub height: u32,
     channels: Vec<(String, Vec<f32>)>,
+    attributes: Vec<(String, String)>,
 }
 
 impl ExrImage {
     /// The samples of channel `name` (row-major, top row first).
     pub fn channel(&self, name: &str) -> Option<&[f32]> {
         self.channels.iter().find(|(n, _)| n == name).map(|(_, v)| v.as_slice())
+    }
+    /// Names of every channel, sorted.
+    pub fn channel_names(&self) -> impl Iterator<Item = &str> {
+        self.channels.iter().map(|(n, _)| n.as_str())
+    }
+    /// The header attribute `name` (image-wide or of the layer) as text, if present: a text
+    /// attribute as it is, a number in Rust's shortest form, anything else in debug form.
+    pub fn attribute(&self, name: &str) -> Option<&str> {
+        self.attributes.iter().find(|(n, _)| n == name).map(|(_, v)| v.as_str())
     }
     /// Pixels of the channels `names[0..3]` as vectors.
     pub fn rgb(&self, names: [&str; 3]) -> Option<Vec<Vec3>> {
@@ -107,5 +175,19 @@ pub fn read_exr(path: &Path) -> Result<ExrImage, OutputError> {
             (name, values)
         })
         .collect();
-    Ok(ExrImage { width: size.0 as u32, height: size.1 as u32, channels })
+    let attributes = image
+        .attributes
+        .other
+        .iter()
+        .chain(layer.attributes.other.iter())
+        .map(|(name, value)| {
+            let text = match value {
+                AttributeValue::Text(text) => text.to_string(),
+                AttributeValue::F32(number) => number.to_string(),
+                other => format!("{other:?}"),
+            };
+            (name.to_string(), text)
+        })
+        .collect();
+    Ok(ExrImage { width: size.0 as u32, height: size.1 as u32, channels, attributes })
 }

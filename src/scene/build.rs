@@ -17,7 +17,7 @@ use super::{RenderSettings, Scene, SceneError, Surface};
 use crate::camera::Camera;
 use crate::geometry::{Geometry, Mesh, Plane, Quad, Shape, Sphere};
 use crate::light::{Light, PointLight, QuadLight};
-use crate::material::{Dielectric, Diffuse, Material, Mirror};
+use crate::material::{Conductor, Dielectric, Diffuse, Material, Mirror, Polarizer, Retarder};
 use crate::optics::{catalogue, metals, Ior};
 use crate::spectrum::{DenseSpectrum, Spectrum, N_LAMBDA};
 
@@ -54,6 +54,12 @@ enum Role {
     Emission,
     /// A non-negative coefficient (absorption): RGB upsampled like a reflectance, then scaled.
     Coefficient,
+}
+
+/// The scene's materials while shapes are built: names to indices, and the built materials.
+struct Materials<'m> {
+    ids: &'m BTreeMap<&'m str, u32>,
+    built: &'m [Material],
 }
 
 struct Builder<'a> {
@@ -102,7 +108,8 @@ impl Builder<'_> {
         let mut surfaces = Vec::new();
         let mut meshes = Vec::new();
         for (index, shape) in desc.shapes.iter().enumerate() {
-            self.shape(index, shape, &material_ids, &mut shapes, &mut surfaces, &mut meshes)?;
+            let known = Materials { ids: &material_ids, built: &materials };
+            self.shape(index, shape, &known, &mut shapes, &mut surfaces, &mut meshes)?;
         }
 
         let mut lights = Vec::with_capacity(desc.lights.len());
@@ -200,6 +207,7 @@ impl Builder<'_> {
             seed: desc.seed.unwrap_or(defaults.seed),
             area_light_samples,
             prune_below,
+            polarized: desc.polarized.unwrap_or(defaults.polarized),
         })
     }
 
@@ -219,13 +227,20 @@ impl Builder<'_> {
                 }
                 Material::Diffuse(Diffuse::new(albedo, sigma_deg.to_radians()))
             }
-            MaterialDesc::Mirror { reflectance, metal } => {
+            MaterialDesc::Mirror { reflectance, metal, complex_ior } => {
                 let reflectance = match reflectance {
                     Some(r) => self.spectrum(r, Role::Reflectance, span.clone(), &field("reflectance"))?,
                     None => DenseSpectrum::constant(1.0),
                 };
-                let metal = match metal {
-                    Some(name) => Some(metals::metal(name).ok_or_else(|| {
+                let conductor = match (metal, complex_ior) {
+                    (Some(_), Some(_)) => {
+                        return Err(self.error(
+                            span,
+                            field("complex_ior"),
+                            "give either metal or complex_ior, not both",
+                        ))
+                    }
+                    (Some(name), None) => Conductor::Metal(metals::metal(name).ok_or_else(|| {
                         self.error(
                             span.clone(),
                             field("metal"),
@@ -235,9 +250,25 @@ impl Builder<'_> {
                             ),
                         )
                     })?),
-                    None => None,
+                    (None, Some([n, k])) => {
+                        if !(n.is_finite()
+                            && k.is_finite()
+                            && *n > 0.0
+                            && *k >= 0.0
+                            && *n <= 1e3
+                            && *k <= 1e3)
+                        {
+                            return Err(self.error(
+                                span,
+                                field("complex_ior"),
+                                format!("[n, k] must have 0 < n ≤ 1000 and 0 ≤ k ≤ 1000, got [{n}, {k}]"),
+                            ));
+                        }
+                        Conductor::Index(num_complex::Complex32::new(*n, *k))
+                    }
+                    (None, None) => Conductor::Perfect,
                 };
-                Material::Mirror(Mirror { reflectance, metal })
+                Material::Mirror(Mirror { reflectance, conductor })
             }
             MaterialDesc::Dielectric { ior, absorption } => {
                 let ior = self.ior(ior, span.clone(), &field("ior"))?;
@@ -248,6 +279,25 @@ impl Builder<'_> {
                     None => None,
                 };
                 Material::Dielectric(Dielectric { ior, absorption })
+            }
+            MaterialDesc::Polarizer { axis, transmittance } => {
+                let axis = self.direction(*axis, span.clone(), &field("axis"))?.normalize();
+                let transmittance = match transmittance {
+                    Some(t) => self.spectrum(t, Role::Reflectance, span.clone(), &field("transmittance"))?,
+                    None => DenseSpectrum::constant(1.0),
+                };
+                Material::Polarizer(Polarizer { axis, transmittance })
+            }
+            MaterialDesc::Retarder { fast_axis, retardance_deg } => {
+                let fast_axis = self.direction(*fast_axis, span.clone(), &field("fast_axis"))?.normalize();
+                if !(retardance_deg.is_finite() && (0.0..=360.0).contains(retardance_deg)) {
+                    return Err(self.error(
+                        span,
+                        field("retardance_deg"),
+                        format!("must be in [0, 360] degrees, got {retardance_deg}"),
+                    ));
+                }
+                Material::Retarder(Retarder { fast_axis, retardance_rad: retardance_deg.to_radians() })
             }
         })
     }
@@ -419,7 +469,7 @@ impl Builder<'_> {
         &self,
         index: usize,
         shape: &Spanned<ShapeDesc>,
-        material_ids: &BTreeMap<&str, u32>,
+        materials: &Materials,
         shapes: &mut Vec<Shape>,
         surfaces: &mut Vec<Surface>,
         meshes: &mut Vec<Mesh>,
@@ -427,8 +477,8 @@ impl Builder<'_> {
         let span = shape.span();
         let at = format!("shapes[{index}]");
         let material_of = |name: &str| {
-            material_ids.get(name).copied().ok_or_else(|| {
-                let known: Vec<_> = material_ids.keys().copied().collect();
+            materials.ids.get(name).copied().ok_or_else(|| {
+                let known: Vec<_> = materials.ids.keys().copied().collect();
                 self.error(
                     span.clone(),
                     format!("{at}.material"),
@@ -439,9 +489,34 @@ impl Builder<'_> {
                 )
             })
         };
+        // Polarisers and retarders are sheets: a flat shape (normal given), with an axis that
+        // has a component in its plane.
+        let sheet = |material: u32, normal: Option<Vec3>| {
+            let axis = match &materials.built[material as usize] {
+                Material::Polarizer(p) => p.axis,
+                Material::Retarder(r) => r.fast_axis,
+                _ => return Ok(()),
+            };
+            let Some(normal) = normal else {
+                return Err(self.error(
+                    span.clone(),
+                    format!("{at}.material"),
+                    "polarizer and retarder materials need a flat shape (a quad or a plane)",
+                ));
+            };
+            if axis.cross(normal.normalize()).length() < 1e-3 {
+                return Err(self.error(
+                    span.clone(),
+                    format!("{at}.material"),
+                    format!("the material's axis {axis} is along this shape's normal: it has no direction in the sheet"),
+                ));
+            }
+            Ok(())
+        };
         match shape.get_ref() {
             ShapeDesc::Sphere { center, radius, material } => {
                 let material = material_of(material)?;
+                sheet(material, None)?;
                 let sphere = Sphere {
                     center: self.point(*center, span.clone(), &format!("{at}.center"))?,
                     radius: self.positive(*radius, span.clone(), &format!("{at}.radius"))?,
@@ -455,16 +530,20 @@ impl Builder<'_> {
                     point: self.point(*point, span.clone(), &format!("{at}.point"))?,
                     normal: self.direction(*normal, span.clone(), &format!("{at}.normal"))?.normalize(),
                 };
+                sheet(material, Some(plane.normal))?;
                 shapes.push(Shape::Plane(plane));
                 surfaces.push(Surface { material, emitter: None });
             }
             ShapeDesc::Quad { corner, edge1, edge2, material } => {
                 let material = material_of(material)?;
-                shapes.push(Shape::Quad(self.quad(*corner, *edge1, *edge2, span.clone(), &at)?));
+                let quad = self.quad(*corner, *edge1, *edge2, span.clone(), &at)?;
+                sheet(material, Some(quad.normal()))?;
+                shapes.push(Shape::Quad(quad));
                 surfaces.push(Surface { material, emitter: None });
             }
             ShapeDesc::Mesh { file, material, scale, rotate_deg, position } => {
                 let material = material_of(material)?;
+                sheet(material, None)?;
                 let transform = self.transform(*scale, *rotate_deg, *position, span.clone(), &at)?;
                 let obj = self.path.parent().unwrap_or(Path::new(".")).join(file);
                 let mesh = Mesh::load_obj(&obj)
@@ -473,6 +552,7 @@ impl Builder<'_> {
             }
             ShapeDesc::Prism { apex_angle_deg, side_length, length, material, rotate_deg, position } => {
                 let material = material_of(material)?;
+                sheet(material, None)?;
                 if !(apex_angle_deg.is_finite() && *apex_angle_deg > 0.0 && *apex_angle_deg < 180.0) {
                     return Err(self.error(
                         span,

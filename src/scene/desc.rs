@@ -91,6 +91,9 @@ pub struct RenderDesc {
     pub area_light_samples: Option<u32>,
     /// Branch weight under which Russian roulette may prune a Whitted branch (0 turns pruning off).
     pub prune_below: Option<f32>,
+    /// Carry Stokes vectors along every path (true, the default) or only radiance, with each
+    /// interface's reflectance averaged over s and p (false: faster, approximate).
+    pub polarized: Option<bool>,
 }
 
 /// A material, selected by `type`.
@@ -113,6 +116,9 @@ pub enum MaterialDesc {
         /// A metal of data/metals/ whose Fresnel reflectance applies (silver, aluminium, gold, copper).
         #[serde(default)]
         metal: Option<String>,
+        /// A constant complex index [n, k] (n + ik) whose Fresnel reflectance applies.
+        #[serde(default)]
+        complex_ior: Option<[f32; 2]>,
     },
     /// Smooth dielectric (glass, water...).
     Dielectric {
@@ -121,6 +127,21 @@ pub enum MaterialDesc {
         /// Absorption coefficient inside, per scene unit (Beer–Lambert); none when absent.
         #[serde(default)]
         absorption: Option<SpectrumDesc>,
+    },
+    /// Ideal linear polariser sheet (flat shapes only).
+    Polarizer {
+        /// Transmission axis in world space (projected onto the sheet).
+        axis: [f32; 3],
+        /// Fraction of the light along the axis that passes (a spectrum in [0, 1]); 1 when absent.
+        #[serde(default)]
+        transmittance: Option<SpectrumDesc>,
+    },
+    /// Ideal linear retarder sheet, a wave plate (flat shapes only).
+    Retarder {
+        /// Fast axis in world space (projected onto the sheet).
+        fast_axis: [f32; 3],
+        /// Retardance in degrees (90: quarter-wave, 180: half-wave).
+        retardance_deg: f32,
     },
 }
 

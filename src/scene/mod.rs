@@ -29,11 +29,21 @@ pub struct RenderSettings {
     pub area_light_samples: u32,
     /// Branch weight under which Russian roulette may end a branch (0: never).
     pub prune_below: f32,
+    /// Carry Stokes vectors (true) or radiance with s/p-averaged Fresnel weights (false).
+    pub polarized: bool,
 }
 
 impl Default for RenderSettings {
     fn default() -> Self {
-        Self { spp: 16, max_depth: 16, wavelengths: 8, seed: 0, area_light_samples: 4, prune_below: 0.01 }
+        Self {
+            spp: 16,
+            max_depth: 16,
+            wavelengths: 8,
+            seed: 0,
+            area_light_samples: 4,
+            prune_below: 0.01,
+            polarized: true,
+        }
     }
 }
 

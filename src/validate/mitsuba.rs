@@ -86,6 +86,7 @@ pub fn run_case(
         .map_err(|e| input(e.to_string()))?;
     let mut settings = scene.settings.clone();
     settings.spp = options.spp.or(case.spp).unwrap_or(cases::DEFAULT_SPP);
+    settings.polarized = case.polarized;
 
     let mut renders = Vec::with_capacity(2);
     for seed in [1u64, 2] {
@@ -98,14 +99,18 @@ pub fn run_case(
             monochromatic_nm: case.wavelength_nm,
             progress: false,
             fault: options.fault,
+            bands: None,
         };
         let (film, _) = render(&scene, &job)?;
-        let data = if case.wavelength_nm.is_some() {
-            vec![film.xyz().iter().map(|p| f64::from(p.y)).collect()]
-        } else {
-            let rgb = film.linear_srgb();
-            (0..3).map(|c| rgb.iter().map(|p| f64::from(p[c])).collect()).collect()
-        };
+        let data = case
+            .channels
+            .iter()
+            .map(|name| {
+                film_channel(&film, name).ok_or_else(|| {
+                    input(format!("case {}: prisma's film has no channel \"{name}\"", case.name))
+                })
+            })
+            .collect::<Result<Vec<_>, _>>()?;
         renders.push(Planes { width: ref_a.width, height: ref_a.height, data });
     }
     let comparison = compare(&renders[0], &renders[1], &ref_a, &ref_b);
@@ -139,4 +144,23 @@ pub fn run_case(
     let images =
         CaseImages { prisma: mean(&renders[0], &renders[1]), mitsuba: mean(&ref_a, &ref_b), comparison };
     Ok((CaseResult { name: case.name.clone(), checks, why: case.why.clone() }, images))
+}
+
+/// prisma's film channel of Mitsuba's name `name`: `R`, `G`, `B` (linear sRGB of S0; in a
+/// monochromatic film, the radiance), `Y` (monochromatic radiance), `S<k>.<R|G|B>` (Stokes
+/// component k, as Mitsuba's `stokes` integrator names them).
+fn film_channel(film: &crate::film::Film, name: &str) -> Option<Vec<f64>> {
+    let (component, colour) = match name.split_once('.') {
+        Some((stokes, colour)) => (stokes.strip_prefix('S')?.parse::<usize>().ok()?, colour),
+        None => (0, name),
+    };
+    let channel = match colour {
+        "R" => 0,
+        "G" => 1,
+        "B" => 2,
+        "Y" if film.monochromatic_nm().is_some() => 1,
+        _ => return None,
+    };
+    let pixels = film.stokes_srgb(component)?;
+    Some(pixels.iter().map(|p| f64::from(p[channel])).collect())
 }
