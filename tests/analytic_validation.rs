@@ -1,6 +1,6 @@
 //! The analytic validation cases (white furnaces, slab transmittance, prism minimum deviation,
-//! Snell's window) pass, and each fails when the physics it checks is deliberately broken: a
-//! check that cannot fail proves nothing.
+//! Snell's window, and the polarisation cases against the field reference) pass, and each fails
+//! when the physics it checks is deliberately broken: a check that cannot fail proves nothing.
 
 use prisma::integrator::Fault;
 use prisma::validate::analytic::{self, CASES};
@@ -47,5 +47,37 @@ fn lossy_objects_are_visible_in_the_furnace() {
         ["type = \"dielectric\"\nior = 1.5\nabsorption = 0.5", "type = \"mirror\"\nreflectance = 0.95"]
     {
         assert!(!analytic::furnace(material, 2).unwrap().passed(), "{material}");
+    }
+}
+
+/// Every polarisation case needs polarisation: with it off, S1–S3 vanish (and Malus's law
+/// through crossed sheets turns into a quarter).
+#[test]
+fn polarisation_off_fails_every_polarisation_case() {
+    for name in prisma::validate::polarization::CASES {
+        assert!(!passes(name, Some(Fault::Unpolarized)), "{name} did not catch polarisation off");
+    }
+}
+
+/// A transposed rotation turns Stokes frames the wrong way: the sign of S2 in a rolled camera,
+/// the second of two skew reflections, sheets at an angle to the image axes.
+#[test]
+fn a_transposed_rotation_is_caught() {
+    for name in ["camera_roll", "skew_reflections", "conductor_pair", "polarizer_chain"] {
+        assert!(
+            !passes(name, Some(Fault::TransposedRotation)),
+            "{name} did not catch the transposed rotation"
+        );
+    }
+    // A single reflection seen upright needs no rotation: that case cannot see it.
+    assert!(passes("one_reflection", Some(Fault::TransposedRotation)));
+}
+
+/// A flipped phase sign turns circular polarisation the wrong way: total internal reflection,
+/// metals, the quarter-wave plate.
+#[test]
+fn a_flipped_phase_is_caught() {
+    for name in ["tir_retardance", "conductor_pair", "polarizer_chain"] {
+        assert!(!passes(name, Some(Fault::FlippedPhase)), "{name} did not catch the flipped phase");
     }
 }

@@ -23,6 +23,12 @@ pub enum FaultArg {
     Schlick,
     /// Every index of refraction 1 % too high.
     IorPlus1Percent,
+    /// Every change of Stokes frame turned the wrong way (a rotation matrix built transposed).
+    TransposedRotation,
+    /// The sign of every phase term flipped (circular polarisation of the wrong handedness).
+    FlippedPhase,
+    /// Polarisation dropped: each interface's reflectance averaged over s and p.
+    Unpolarized,
 }
 
 /// Arguments of `prisma validate`.
@@ -56,6 +62,9 @@ pub fn run(args: &ValidateArgs) -> Result<(), CliError> {
     let fault = args.fault.map(|f| match f {
         FaultArg::Schlick => Fault::SchlickFresnel,
         FaultArg::IorPlus1Percent => Fault::IorScale(1.01),
+        FaultArg::TransposedRotation => Fault::TransposedRotation,
+        FaultArg::FlippedPhase => Fault::FlippedPhase,
+        FaultArg::Unpolarized => Fault::Unpolarized,
     });
     let threads = args.threads.unwrap_or(0) as usize;
     let mitsuba_cases = cases::load(&args.dir).map_err(|e| CliError::Input(e.into()))?;

@@ -11,8 +11,9 @@ use crate::optics::catalogue;
 use crate::render::{render, Job};
 use crate::scene::{parse, Scene};
 
-/// Names of the analytic cases, in the order [`run`] runs them.
-pub const CASES: [&str; 7] = [
+/// Names of the analytic cases, in the order [`run`] runs them: the radiometric cases of this
+/// module, then the polarisation cases of [`super::polarization`].
+pub const CASES: [&str; 13] = [
     "lambert_point_light",
     "furnace_glass",
     "furnace_dispersive_glass",
@@ -20,6 +21,12 @@ pub const CASES: [&str; 7] = [
     "slab_transmittance",
     "prism_minimum_deviation",
     "snell_window",
+    "one_reflection",
+    "camera_roll",
+    "skew_reflections",
+    "tir_retardance",
+    "conductor_pair",
+    "polarizer_chain",
 ];
 
 /// Unpolarised Fresnel reflectance from the textbook amplitude formulas (Hecht §4.6), f64, for
@@ -56,6 +63,7 @@ pub fn run(name: &str, threads: usize, fault: Option<Fault>) -> Result<CaseResul
         "slab_transmittance" => ctx.slab(name),
         "prism_minimum_deviation" => ctx.prism(name),
         "snell_window" => ctx.snell_window(name),
+        name if super::polarization::CASES.contains(&name) => super::polarization::run(name, threads, fault),
         _ => Err(ValidateError::Input(format!(
             "unknown analytic case \"{name}\"; known: {}",
             CASES.join(", ")

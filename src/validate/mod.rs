@@ -5,8 +5,10 @@
 
 pub mod analytic;
 pub mod cases;
+pub mod field;
 pub mod metrics;
 pub mod mitsuba;
+pub mod polarization;
 
 /// The outcome of one validation case.
 #[derive(Debug, Clone)]
