@@ -24,90 +24,20 @@
 //! `DielectricFresnel::r_s`/`r_p` have no Mitsuba counterpart with their rounding; they are
 //! compared with `fresnel_polarized` where that rounding cannot matter (see the test).
 
-use std::path::Path;
+mod common;
 
+use common::{read_fixture, Comparison};
 use num_complex::Complex32;
 use prisma::optics::{fresnel_conductor, fresnel_dielectric, fresnel_dielectric_amplitudes};
 
 /// Largest absolute difference allowed on any quantity of any row.
 const TOLERANCE: f32 = 1e-5;
 
-/// The rows of a fixture whose column header is `columns`.
-fn read_fixture(name: &str, columns: &str) -> Vec<Vec<f32>> {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures").join(name);
-    let text = std::fs::read_to_string(&path).unwrap_or_else(|err| {
-        panic!("{}: {err}; regenerate it with validation/mitsuba/fresnel_fixtures.py", path.display())
-    });
-    let mut lines = text.lines().enumerate().filter(|(_, line)| !line.starts_with('#'));
-    let (_, header) = lines.next().unwrap_or_else(|| panic!("{name}: no column header"));
-    assert_eq!(header, columns, "{name}: unexpected columns");
-    let width = columns.split(',').count();
-    lines
-        .map(|(index, line)| {
-            let row: Vec<f32> = line
-                .split(',')
-                .map(|field| {
-                    field.parse().unwrap_or_else(|err| panic!("{name}:{}: {err} in {line:?}", index + 1))
-                })
-                .collect();
-            assert_eq!(row.len(), width, "{name}:{}: {line:?}", index + 1);
-            row
-        })
-        .collect()
-}
-
-/// The largest difference seen for one quantity, and where.
-struct Worst {
-    quantity: &'static str,
-    difference: f32,
-    context: String,
-}
-
-/// Collects differences between prisma and Mitsuba and fails on any beyond [`TOLERANCE`].
-#[derive(Default)]
-struct Comparison {
-    worst: Vec<Worst>,
-    failures: Vec<String>,
-    rows: usize,
-}
-
-impl Comparison {
-    fn check(&mut self, quantity: &'static str, prisma: f32, mitsuba: f32, context: &str) {
-        let difference = (prisma - mitsuba).abs();
-        // NaN in either makes `difference` NaN, which must fail too.
-        if difference.is_nan() || difference > TOLERANCE {
-            self.failures.push(format!("{quantity}: prisma {prisma} vs Mitsuba {mitsuba} at {context}"));
-        }
-        match self.worst.iter_mut().find(|w| w.quantity == quantity) {
-            Some(worst) if difference.is_nan() || difference > worst.difference => {
-                worst.difference = difference;
-                worst.context = context.to_owned();
-            }
-            Some(_) => {}
-            None => self.worst.push(Worst { quantity, difference, context: context.to_owned() }),
-        }
-    }
-
-    fn finish(self, fixture: &str) {
-        println!("{fixture}: {} rows compared, tolerance {TOLERANCE:e}", self.rows);
-        for worst in &self.worst {
-            println!("  max |Δ{}| = {:.3e} at {}", worst.quantity, worst.difference, worst.context);
-        }
-        assert!(self.rows > 0, "{fixture}: no rows");
-        assert!(
-            self.failures.is_empty(),
-            "{fixture}: {} differences beyond {TOLERANCE:e}, first ones:\n{}",
-            self.failures.len(),
-            self.failures.iter().take(20).cloned().collect::<Vec<_>>().join("\n")
-        );
-    }
-}
-
 #[test]
 fn dielectric_reflectance_matches_mitsuba() {
     let rows =
         read_fixture("fresnel_dielectric.csv", "cos_theta_i,eta,reflectance,cos_theta_t,eta_it,eta_ti");
-    let mut comparison = Comparison::default();
+    let mut comparison = Comparison::new(TOLERANCE);
     for row in &rows {
         let &[cos_theta_i, eta, reflectance, cos_theta_t, eta_it, eta_ti] = row.as_slice() else {
             unreachable!("read_fixture checks the row width")
@@ -131,7 +61,7 @@ fn polarized_amplitudes_match_mitsuba() {
     );
     // Mitsuba's Verdet-convention a_p is Hecht's r∥, prisma's r_p: the sign factor is +1.
     const P_SIGN_MITSUBA_TO_PRISMA: f32 = 1.0;
-    let mut comparison = Comparison::default();
+    let mut comparison = Comparison::new(TOLERANCE);
     let mut total_internal_reflections = 0;
     let mut real_summaries = 0;
     for row in &rows {
@@ -182,7 +112,7 @@ fn polarized_amplitudes_match_mitsuba() {
 #[test]
 fn conductor_reflectance_matches_mitsuba() {
     let rows = read_fixture("fresnel_conductor.csv", "cos_theta_i,eta_re,eta_im,reflectance");
-    let mut comparison = Comparison::default();
+    let mut comparison = Comparison::new(TOLERANCE);
     for row in &rows {
         let &[cos_theta_i, eta_re, eta_im, reflectance] = row.as_slice() else {
             unreachable!("read_fixture checks the row width")
