@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
-"""Renders the Mitsuba 3 reference images of validation/cases.toml and of
-validation/mitsuba/polarised_cases.toml, with provenance.
+"""Renders the Mitsuba 3 reference images of validation/cases.toml, of
+validation/mitsuba/polarised_cases.toml and of validation/mitsuba/prisma_colour_cases.toml, with
+provenance.
 
 For every case: two references at independent seeds (references/<case>_seed1.exr, _seed2.exr,
 float32, the channels Mitsuba's film writes, which include those the case compares), the
@@ -27,6 +28,7 @@ Run from the repository root after validation/setup.sh and `cargo build --releas
   validation/.venv/bin/python validation/mitsuba/render_references.py tp6_quad   # one case
   ... --quick    (1/16 of the samples, into /tmp, for trying changes)
   ... --polarised (the cases of polarised_cases.toml only)
+  ... --variance-only CASE ...  (repeat committed references for their variance files only)
 """
 
 import argparse
@@ -51,7 +53,8 @@ sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 import translate  # noqa: E402
 
 VALIDATION = pathlib.Path(__file__).resolve().parents[1]
-CASE_FILES = [VALIDATION / "cases.toml", VALIDATION / "mitsuba" / "polarised_cases.toml"]
+CASE_FILES = [VALIDATION / "cases.toml", VALIDATION / "mitsuba" / "polarised_cases.toml",
+              VALIDATION / "mitsuba" / "prisma_colour_cases.toml"]
 SEEDS = (1, 2)
 
 # Infinite planes: the references of cases.toml were rendered with 1000-unit rectangles; the
@@ -108,6 +111,16 @@ MITSUBA_SETTINGS.update({
     "stokes_tir_prism": dict(_STOKES),
     "stokes_polarizers": dict(_STOKES),
 })
+# Unpolarised, through prisma's colour pipeline (prisma_colour_cases.toml).
+_PRISMA_CMF = dict(variant="llvm_ad_spectral", film="prisma_xyz", spp_per_pass=256, passes=64,
+                   plane_half_size=PLANE_HALF_SIZE_POLARISED)
+MITSUBA_SETTINGS.update({
+    "specular_spheres_prisma_cmf": dict(_PRISMA_CMF, integrator="path"),
+    "specular_prism_prisma_cmf": dict(_PRISMA_CMF, integrator="path"),
+    "tp6_point_prisma_cmf": dict(_PRISMA_CMF, integrator="whitted"),
+    "tp6_quad_prisma_cmf": dict(_PRISMA_CMF, integrator="whitted"),
+    "color_emitters_prisma_cmf": dict(_PRISMA_CMF, integrator="path"),
+})
 
 
 def load_cases():
@@ -159,7 +172,19 @@ def prisma_identity(prisma):
     return {"path": str(prisma), "version": version, "sha256": sha256(prisma)}
 
 
-def render_case(case, case_file, settings, out_dir, prisma, quick, command):
+def read_exr(path):
+    bitmap = mi.Bitmap(str(path))
+    data = np.array(bitmap, dtype=np.float64)
+    if data.ndim == 2:
+        data = data[..., None]
+    return data, [bitmap.struct_()[i].name for i in range(data.shape[-1])]
+
+
+def render_case(case, case_file, settings, out_dir, prisma, quick, command, variance_only=False):
+    """Renders one case (both seeds) into out_dir. variance_only: render exactly as before, keep
+    the committed reference EXRs, write only the variance files and <case>_var.json, after
+    checking that the new mean reproduces the committed one (to float rounding: the LLVM
+    backend's accumulation order across threads is not fixed)."""
     name = case["name"]
     mi.set_variant(settings["variant"])
     spp_per_pass = settings["spp_per_pass"] // (16 if quick else 1)
@@ -194,7 +219,19 @@ def render_case(case, case_file, settings, out_dir, prisma, quick, command):
         variance *= fix * fix
         path = out_dir / f"{name}_seed{seed}.exr"
         var_path = out_dir / f"{name}_seed{seed}_var.exr"
-        translate.write_exr(path, mean, channels)
+        agreement = None
+        if variance_only:
+            committed, committed_channels = read_exr(path)
+            if committed_channels != channels or committed.shape != mean.shape:
+                raise SystemExit(f"{name}: {path} has channels {committed_channels}, the render {channels}")
+            difference = np.abs(mean.astype(np.float32) - committed)
+            sigma = np.sqrt(variance)
+            agreement = {"max_abs_difference": float(difference.max()),
+                         "max_relative_difference": float((difference / np.maximum(np.abs(committed), 1e-6)).max()),
+                         "max_difference_over_sigma": float((difference / np.maximum(sigma, 1e-12)).max())}
+            print(f"{name} seed {seed}: the new mean against {path.name}: {agreement}")
+        else:
+            translate.write_exr(path, mean, channels)
         translate.write_exr(var_path, variance, channels)
         renders.append({
             "file": f"references/{path.name}",
@@ -207,6 +244,8 @@ def render_case(case, case_file, settings, out_dir, prisma, quick, command):
             "channel_mean_stderr": {c: float(np.sqrt(variance[..., i].sum()) / variance[..., i].size)
                                     for i, c in enumerate(channels)},
         })
+        if agreement is not None:
+            renders[-1]["committed_mean_reproduced"] = agreement
         print(f"{name} seed {seed}: {spp_per_pass * passes} spp in {seconds:.1f} s (CPU {cpu_seconds:.1f} s), "
               f"means {dict((c, round(float(mean[..., i].mean()), 5)) for i, c in enumerate(channels) if c in case['channels'])}")
 
@@ -274,7 +313,10 @@ def render_case(case, case_file, settings, out_dir, prisma, quick, command):
         "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
         "quick": quick,
     }
-    (out_dir / f"{name}.json").write_text(json.dumps(provenance, indent=2) + "\n")
+    if variance_only:
+        provenance["variance_only"] = ("the reference EXRs are the committed ones (see <case>.json); this render "
+                                       "repeated them with the same settings and seeds for the variance files only")
+    (out_dir / f"{name}{'_var' if variance_only else ''}.json").write_text(json.dumps(provenance, indent=2) + "\n")
 
 
 def main():
@@ -282,6 +324,8 @@ def main():
     parser.add_argument("cases", nargs="*", help="case names (default: every case of the case files)")
     parser.add_argument("--polarised", action="store_true", help="only the cases of polarised_cases.toml")
     parser.add_argument("--quick", action="store_true", help="1/16 of the samples, written to --out")
+    parser.add_argument("--variance-only", action="store_true",
+                        help="keep the committed references, add their variance files (and <case>_var.json)")
     parser.add_argument("--out", type=pathlib.Path, help="output directory (default: validation/references, "
                                                          "or a temporary one with --quick)")
     parser.add_argument("--prisma", help="prisma binary (default: $PRISMA or target/release/prisma)")
@@ -312,7 +356,8 @@ def main():
         expected = [f"references/{case['name']}_seed{s}.exr" for s in SEEDS]
         if case["references"] != expected:
             raise SystemExit(f"{case['name']}: {case_file.name} references should be {expected}")
-        render_case(case, case_file, MITSUBA_SETTINGS[case["name"]], out_dir, prisma, args.quick, command)
+        render_case(case, case_file, MITSUBA_SETTINGS[case["name"]], out_dir, prisma, args.quick, command,
+                    args.variance_only)
     print(f"references in {out_dir}")
 
 
