@@ -30,6 +30,9 @@ Checks (each prints its numbers and PASS/FAIL):
  5. retarder: light through a polariser at ±45° to the `retarder`'s local U axis, then the
     retarder (theta = 0, delta = 90), at normal incidence: which local axis is fast (the field
     component along it leads by delta), read from the sign of S3 with the S3 convention of 4.
+    Then both sheets tilted by 10°: Mitsuba's `retarder` against the physics of an ideal plate
+    (fast axis projected onto the wavefront, full retardance), and ideal_retarder.py's plugin,
+    which translate.py uses for prisma's retarder, against the same.
 
 Run from the repository root (about a minute on two cores):
   export DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM-19.so
@@ -389,6 +392,39 @@ def check_retarder():
                   f"if V is fast {predicted(V, U):+.0f}")
     record(all(fast_u), "retarder: the fast axis of Mitsuba's `retarder` (theta = 0) is its local U "
            "(the field component along U leads by delta), with S3 = +1 clockwise as seen by the camera")
+
+    # Off normal incidence: a polariser at 45° to U and a quarter-wave plate, both tilted by 10°
+    # about V (the rays meet the sheets tilted toward U). Physics: the polariser passes
+    # forward × (V on the wavefront) (check 3), the plate's fast axis is U on the wavefront and
+    # its slow axis forward × that, the fast component leads by 90°, no cos θ falloff.
+    t = np.radians(10.0)
+    rot = np.array([[np.cos(t), 0, np.sin(t)], [0, 1, 0], [-np.sin(t), 0, np.cos(t)]])
+    U, V, N = rot @ np.array([1.0, 0, 0]), rot @ np.array([0, 1.0, 0]), rot @ np.array([0, 0, 1.0])
+    a = unit(U + V)
+    f = np.array([0, 0, -1.0])  # the centre ray's light travels toward the camera
+    e_in = np.cross(f, unit(np.cross(N, a) - (np.cross(N, a) @ f) * f))  # polariser's effective axis
+    fast = unit(U - (U @ f) * f)
+    slow = np.cross(f, fast)
+    e_out = (e_in @ fast) * np.exp(-1j * np.pi / 2) * fast + (e_in @ slow) * slow
+    expected = stokes_physics(e_out, f)
+    pol = {"type": "rectangle", "to_world": frame_transform(2.0 * a, 2.0 * np.cross(N, a), N, [0, 0, 2.0]),
+           "bsdf": {"type": "polarizer"}}
+    sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+    import ideal_retarder  # noqa: F401  registers "ideal_retarder" for this variant
+    for plugin in ("retarder", "ideal_retarder"):
+        plate = {"type": "rectangle", "to_world": frame_transform(2 * U, 2 * V, N, [0, 0, 0]),
+                 "bsdf": {"type": plugin, "delta": 90.0}}
+        S, _ = render_stokes({"plate": plate, "pol": pol, "light": light},
+                             sensor([0, 0, -6.0], [0, 0, 0], [0, 1, 0], fov=1.0, size=8))
+        c = S.shape[0] // 2
+        err = np.abs(S[c, c, 1:] / S[c, c, 0] - expected).max()
+        label = "Mitsuba's `retarder`" if plugin == "retarder" else "ideal_retarder.py"
+        message = (f"retarder at 10° incidence, {label}: S/S0 = {np.round(S[c, c] / S[c, c, 0], 4)}, "
+                   f"ideal (physics) {np.round(expected, 4)}, max diff {err:.1e}")
+        if plugin == "ideal_retarder":
+            record(err < 2e-3, message + " (translate.py's retarder)")
+        else:
+            print("      " + message + " (cos θ falloff and an unprojected axis)")
 
 
 def main():

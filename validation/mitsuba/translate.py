@@ -39,10 +39,13 @@ The mapping, prisma → Mitsuba 3.9.1:
                     U follows its first edge, which need not be the axis). Mitsuba's `theta`
                     stays 0: its sign depends on the side the light arrives from.
                     At oblique incidence both follow Korger et al. (2013).
-  retarder          Mitsuba's retarder (theta = 0, delta = retardance_deg) on the same kind of
-                    shape, local U = the fast axis: polarisation_conventions.py measured that the
-                    field component along U leads. Mitsuba scales the retardance by |cos θ| at
-                    oblique incidence and prisma does not: hit retarders at normal incidence.
+  retarder          ideal_retarder.py's plugin (delta = retardance_deg) on the same kind of shape,
+                    local U = the fast axis: Mitsuba's retarder at normal incidence, where
+                    polarisation_conventions.py measured that the field component along U leads,
+                    with the fast axis projected onto the wavefront off normal incidence and no
+                    cos θ falloff of the retardance, as prisma's. (Mitsuba's own `retarder`,
+                    retarder_plugin="retarder", turns its axis by about the tilt angle off normal
+                    incidence: see ideal_retarder.py.)
   point light       point, intensity (W·sr⁻¹·nm⁻¹ in both renderers)
   quad light        rectangle with a black diffuse BSDF (prisma's quad lights reflect nothing) and
                     an area emitter; Mitsuba emits toward local +z, so for emit =
@@ -333,15 +336,20 @@ class Translator:
       upsampling (an `rgb` spectrum, which Mitsuba multiplies by its D65) instead of prisma's table.
     plane_half_size: half-size of the rectangles standing in for infinite planes, or "graded"
       for the graded mesh (see GRADED_PLANE_HALF_SIZE).
+    retarder_plugin: "ideal_retarder" (ideal_retarder.py, prisma's retarder) or Mitsuba's "retarder".
     Polarised variants (mi.is_polarized) get the polarised translation of mirrors.
     """
 
-    def __init__(self, scene, wavelength_nm=None, mitsuba_rgb_emitters=False, plane_half_size=PLANE_HALF_SIZE):
+    def __init__(self, scene, wavelength_nm=None, mitsuba_rgb_emitters=False, plane_half_size=PLANE_HALF_SIZE,
+                 retarder_plugin="ideal_retarder"):
         self.scene = scene
         self.mono = mi.is_monochromatic
         self.spectral = mi.is_spectral
         self.polarized = mi.is_polarized
         self.plane_half_size = plane_half_size if plane_half_size == "graded" else float(plane_half_size)
+        if retarder_plugin not in ("ideal_retarder", "retarder"):
+            raise TranslationError(f"unknown retarder plugin {retarder_plugin!r}")
+        self.retarder_plugin = retarder_plugin
         if not (self.mono or self.spectral):
             raise TranslationError(f"variant {mi.variant()}: use a spectral or a mono variant "
                                    "(an RGB variant would re-upsample prisma's spectra)")
@@ -426,6 +434,9 @@ class Translator:
             delta = float(desc["retardance_deg"])
             if not 0.0 <= delta <= 360.0:
                 raise TranslationError(f"material {name!r}: retardance_deg must be in [0, 360]")
+            if self.retarder_plugin == "ideal_retarder":
+                register_ideal_retarder()
+                return {"type": "ideal_retarder", "delta": delta}
             return {"type": "retarder", "theta": 0.0, "delta": delta}
         raise TranslationError(f"material {name!r}: unknown type {kind!r}")
 
@@ -701,6 +712,15 @@ def variant_for(scene, wavelength_nm=None, polarized=None):
     polarized = scene.polarized if polarized is None else polarized
     base = "llvm_ad_mono" if wavelength_nm is not None else "llvm_ad_spectral"
     return base + ("_polarized" if polarized else "")
+
+
+def register_ideal_retarder():
+    """Registers validation/mitsuba/ideal_retarder.py's BSDF for the current variant."""
+    sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+    import ideal_retarder
+
+    if ideal_retarder.VARIANT != mi.variant():
+        importlib.reload(ideal_retarder)
 
 
 def whitted_integrator(prisma_max_depth):
