@@ -295,6 +295,8 @@ def render_case(case, case_file, settings, out_dir, prisma, quick, command, vari
             "plane_half_size": settings["plane_half_size"],
             "ideal_mirror": ("conductor eta = 0, k = %g (perfect electric conductor)" % translate.PEC_K
                              if mi.is_polarized else "conductor material 'none'"),
+            "retarder": "validation/mitsuba/ideal_retarder.py (plugin ideal_retarder)",
+            "polarizer": "Mitsuba's polarizer, theta = 0, local U along the transmission axis",
         },
         "y_normalisation_fix": {
             "factor_applied": fix,
