@@ -180,6 +180,14 @@ def read_exr(path):
     return data, [bitmap.struct_()[i].name for i in range(data.shape[-1])]
 
 
+def stored_channels(channels):
+    """The channels a reference keeps: a mono film's S<k>.G and S<k>.B repeat S<k>.R (Mitsuba's
+    `stokes` copies the one value into R, G and B) and the prisma_xyz film's XYZ.* are not
+    compared, so they are left out to keep the files small."""
+    return [c for c in channels if not c.startswith("XYZ.")
+            and not (mi.is_monochromatic and c.startswith("S") and c[-2:] in (".G", ".B"))]
+
+
 def render_case(case, case_file, settings, out_dir, prisma, quick, command, variance_only=False):
     """Renders one case (both seeds) into out_dir. variance_only: render exactly as before, keep
     the committed reference EXRs, write only the variance files and <case>_var.json, after
@@ -217,6 +225,9 @@ def render_case(case, case_file, settings, out_dir, prisma, quick, command, vari
             raise SystemExit(f"{name}: Mitsuba wrote channels {channels}, the case compares {case['channels']}")
         mean *= fix
         variance *= fix * fix
+        if not variance_only:
+            keep = [channels.index(c) for c in stored_channels(channels)]
+            mean, variance, channels = mean[..., keep], variance[..., keep], [channels[i] for i in keep]
         path = out_dir / f"{name}_seed{seed}.exr"
         var_path = out_dir / f"{name}_seed{seed}_var.exr"
         agreement = None
@@ -275,6 +286,8 @@ def render_case(case, case_file, settings, out_dir, prisma, quick, command, vari
         "resolution": [int(scene.camera["width"]), int(scene.camera["height"])],
         "channels": channels,
         "compared_channels": case["channels"],
+        "stored_channels_rule": ("a mono film's S<k>.G, S<k>.B (copies of S<k>.R) and the XYZ.* of the prisma_xyz "
+                                 "film are not stored"),
         "variance_files": "per pixel and channel, the variance of the reference (a mean of `passes` passes): "
                           "sum_k (x_k - mean)^2 / (passes*(passes - 1)), from the passes, times the square "
                           "of the factor applied to the image",
