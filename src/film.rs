@@ -94,6 +94,11 @@ impl PixelSums {
     #[inline]
     pub fn add<B: Beam>(&mut self, beam: &B, wavelengths: &SampledWavelengths, layout: &FilmLayout) {
         for (k, component) in beam.components().iter().enumerate() {
+            // Most samples see unpolarised light (diffuse surfaces, the background): S1–S3 are
+            // then exactly zero and add nothing.
+            if k > 0 && component.is_zero() {
+                continue;
+            }
             let xyz = cie::to_xyz(component, wavelengths);
             for (sum, value) in self.xyz[k].iter_mut().zip(xyz.to_array()) {
                 *sum += f64::from(value);
