@@ -41,7 +41,7 @@ pub struct PolvizArgs {
     output: Option<PathBuf>,
     /// Which colour channel's Stokes components to map (colour renders): Y = the CIE Y of each
     /// component from its RGB with the Rec. 709 weights [default: Y].
-    #[arg(long, value_enum)]
+    #[arg(long, value_enum, ignore_case = true)]
     channel: Option<Channel>,
     /// Map the spectral band (S<k>.<λ>nm channels of `render --spectral-bands`) nearest this
     /// wavelength in nm instead of a colour channel.
@@ -62,12 +62,16 @@ pub struct PolvizArgs {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 enum Channel {
     /// Red.
+    #[value(name = "R")]
     R,
     /// Green.
+    #[value(name = "G")]
     G,
     /// Blue.
+    #[value(name = "B")]
     B,
     /// CIE Y, 0.2126 R + 0.7152 G + 0.0722 B.
+    #[value(name = "Y")]
     Y,
 }
 
@@ -101,21 +105,23 @@ pub fn run(args: &PolvizArgs) -> Result<(), CliError> {
     let options =
         Options { min_dolp: args.min_dolp, columns: args.columns as usize, exposure_ev: args.exposure };
     let canvas = figure::draw(&image, &options).map_err(CliError::Input)?;
-    write_atomically(&output, |tmp| {
-        image::save_buffer_with_format(
-            tmp,
-            &canvas.pixels,
-            canvas.width,
-            canvas.height,
-            image::ColorType::Rgb8,
-            image::ImageFormat::Png,
-        )
-        .map_err(|e| OutputError::Codec { path: output.display().to_string(), message: e.to_string() })
-    })
-    .map_err(|e| CliError::Input(anyhow!("cannot write the figure: {e}")))?;
+    write_atomically(&output, |tmp| write_png(tmp, &canvas, &output))
+        .map_err(|e| CliError::Input(anyhow!("cannot write the figure: {e}")))?;
     say!("{}", summary(&image, args.min_dolp));
     say!("wrote {}", output.display());
     Ok(())
+}
+
+/// Encodes the figure as PNG into `tmp` (errors name `output`), compressed hard: a figure is
+/// written once and read many times, and flat colour areas compress well.
+fn write_png(tmp: &Path, canvas: &figure::Canvas, output: &Path) -> Result<(), OutputError> {
+    use image::codecs::png::{CompressionType, FilterType, PngEncoder};
+    use image::ImageEncoder as _;
+    let io = |source| OutputError::Io { path: output.display().to_string(), source };
+    let file = std::io::BufWriter::new(std::fs::File::create(tmp).map_err(io)?);
+    PngEncoder::new_with_quality(file, CompressionType::Best, FilterType::Adaptive)
+        .write_image(&canvas.pixels, canvas.width, canvas.height, image::ExtendedColorType::Rgb8)
+        .map_err(|e| OutputError::Codec { path: output.display().to_string(), message: e.to_string() })
 }
 
 /// `dir/NAME_polviz.png` for `dir/NAME.exr`.
