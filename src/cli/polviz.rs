@@ -25,6 +25,7 @@ use std::path::{Path, PathBuf};
 use anyhow::anyhow;
 use clap::{Args, ValueEnum};
 
+use super::plot::write_png;
 use super::{say, CliError};
 use figure::{Options, StokesImage};
 use prisma::output::atomic::write_atomically;
@@ -105,23 +106,11 @@ pub fn run(args: &PolvizArgs) -> Result<(), CliError> {
     let options =
         Options { min_dolp: args.min_dolp, columns: args.columns as usize, exposure_ev: args.exposure };
     let canvas = figure::draw(&image, &options).map_err(CliError::Input)?;
-    write_atomically(&output, |tmp| write_png(tmp, &canvas, &output))
+    write_atomically(&output, |tmp| write_png(tmp, &canvas.pixels, (canvas.width, canvas.height), &output))
         .map_err(|e| CliError::Input(anyhow!("cannot write the figure: {e}")))?;
     say!("{}", summary(&image, args.min_dolp));
     say!("wrote {}", output.display());
     Ok(())
-}
-
-/// Encodes the figure as PNG into `tmp` (errors name `output`), compressed hard: a figure is
-/// written once and read many times, and flat colour areas compress well.
-fn write_png(tmp: &Path, canvas: &figure::Canvas, output: &Path) -> Result<(), OutputError> {
-    use image::codecs::png::{CompressionType, FilterType, PngEncoder};
-    use image::ImageEncoder as _;
-    let io = |source| OutputError::Io { path: output.display().to_string(), source };
-    let file = std::io::BufWriter::new(std::fs::File::create(tmp).map_err(io)?);
-    PngEncoder::new_with_quality(file, CompressionType::Best, FilterType::Adaptive)
-        .write_image(&canvas.pixels, canvas.width, canvas.height, image::ExtendedColorType::Rgb8)
-        .map_err(|e| OutputError::Codec { path: output.display().to_string(), message: e.to_string() })
 }
 
 /// `dir/NAME_polviz.png` for `dir/NAME.exr`.
