@@ -68,6 +68,9 @@ pub fn s0_floor(s0: &[f32]) -> f32 {
     1e-4 * brightest
 }
 
+/// Labelled ticks of a colour bar: (value, label).
+type Ticks = &'static [(f32, &'static str)];
+
 /// Which map a panel shows.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Map {
@@ -85,7 +88,7 @@ impl Map {
     const ALL: [Map; 4] = [Map::Preview, Map::Dolp, Map::Aolp, Map::Circular];
 
     /// The colour bar's range and labelled ticks.
-    fn scale(self) -> Option<(f32, f32, &'static [(f32, &'static str)])> {
+    fn scale(self) -> Option<(f32, f32, Ticks)> {
         match self {
             Map::Preview => None,
             Map::Dolp => {
