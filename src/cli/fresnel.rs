@@ -1,6 +1,8 @@
 //! `prisma fresnel`: Fresnel reflectance curves (Rs, Rp, R against the angle of incidence, from
-//! outside and from inside) as CSV and plots, and plots of Mitsuba fixtures with prisma's curves
-//! overlaid.
+//! outside and from inside) and the phases of r_s and r_p with their difference δ, as CSV and
+//! plots, and plots of Mitsuba fixtures with prisma's curves overlaid.
+
+mod curves;
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -11,12 +13,17 @@ use num_complex::Complex32;
 
 use plotters::chart::SeriesLabelPosition;
 
-use super::plot::{write_chart, Marker, Panel, Series, Style, PALETTE};
+use super::plot::{write_chart, write_chart_grid, Marker, Panel, Series, Style, PALETTE};
 use super::{say, CliError};
+use curves::Reflection;
 use prisma::optics::catalogue;
 use prisma::optics::conductor::fresnel_conductor;
 use prisma::optics::fresnel::fresnel_dielectric_amplitudes;
 use prisma::optics::{fresnel_dielectric, metals, Ior};
+
+/// The phase convention, as the plots' subtitles and the CSV header state it.
+const PHASE_CONVENTION: &str =
+    "fields E·exp(+iωt) as in Mitsuba; Hecht's signs (r_p = −r_s at 0°); δ > 0: p leads s";
 
 /// Arguments of `prisma fresnel`.
 #[derive(Debug, Args)]
@@ -29,10 +36,17 @@ pub struct FresnelArgs {
     /// Wavelength in nm at which a dispersive IOR or a metal is evaluated.
     #[arg(long, value_name = "NM", default_value_t = 587.56)]
     wavelength: f32,
-    /// Write the curves as CSV (angle in degrees, Rs, Rp, R from outside and inside).
+    /// Write the curves as CSV: angle in degrees; Rs, Rp, R from outside and (dielectrics) from
+    /// inside; then the phases arg r_s, arg r_p and δ = arg r_p − arg r_s in degrees, in
+    /// (−180, 180] (a negative real coefficient reads 180), from each side.
     #[arg(short, long, value_name = "curves.csv")]
     output: Option<PathBuf>,
-    /// Plot the curves (.svg or .png).
+    /// Plot the curves (.svg or .png): the reflectances, and under them the phases arg r_s,
+    /// arg r_p and δ = arg r_p − arg r_s in degrees (the phase jump of r_p at Brewster's angle,
+    /// the phases of total internal reflection from inside, a metal's principal angle where
+    /// δ = 90°). Phase convention: fields E·e^{+iωt} as in Mitsuba 3 (an absorbing medium has
+    /// index n − ik, and a positive phase leads), amplitudes with Hecht's signs (r_p = −r_s at
+    /// normal incidence, so δ = 180° there).
     #[arg(long, value_name = "curves.svg|png")]
     plot: Option<PathBuf>,
     /// Plot a Mitsuba fixture from tests/fixtures/ with prisma's curves overlaid, and print the
@@ -49,6 +63,73 @@ enum Interface {
     Conductor { eta: Complex32, label: String },
 }
 
+/// The curves of one interface on a grid of angles of incidence.
+struct Table {
+    angles_deg: Vec<f64>,
+    /// Light from the exterior (vacuum).
+    outside: Vec<Reflection>,
+    /// Light from the interior of a dielectric; empty for a conductor.
+    inside: Vec<Reflection>,
+}
+
+impl Table {
+    fn new(interface: &Interface) -> Self {
+        let angles_deg: Vec<f64> = (0..=360).map(|i| f64::from(i) * 0.25).collect();
+        let (outside, inside) = match interface {
+            Interface::Dielectric { n, .. } => (
+                angles_deg.iter().map(|&a| curves::dielectric(a, *n, false)).collect(),
+                angles_deg.iter().map(|&a| curves::dielectric(a, *n, true)).collect(),
+            ),
+            Interface::Conductor { eta, .. } => {
+                (angles_deg.iter().map(|&a| curves::conductor(a, *eta)).collect(), Vec::new())
+            }
+        };
+        Self { angles_deg, outside, inside }
+    }
+
+    /// The table as CSV, with a comment line naming the interface and the phase convention.
+    fn csv(&self, interface: &Interface) -> String {
+        let mut csv = String::new();
+        let reflectances =
+            |row: &Reflection| format!("{},{},{}", row.reflectance_s, row.reflectance_p, row.reflectance);
+        let phases = |row: &Reflection| format!("{},{},{}", row.phase_s_deg, row.phase_p_deg, row.delta_deg);
+        match interface {
+            Interface::Dielectric { n, label } => {
+                let _ = writeln!(csv, "# prisma fresnel: {label}, n = {n} (relative to vacuum)");
+                let _ = writeln!(csv, "# phases in degrees: {PHASE_CONVENTION}");
+                let _ = writeln!(
+                    csv,
+                    "angle_deg,rs_outside,rp_outside,r_outside,rs_inside,rp_inside,r_inside,\
+                     phase_s_outside_deg,phase_p_outside_deg,delta_outside_deg,\
+                     phase_s_inside_deg,phase_p_inside_deg,delta_inside_deg"
+                );
+                for ((angle, out), inn) in self.angles_deg.iter().zip(&self.outside).zip(&self.inside) {
+                    let _ = writeln!(
+                        csv,
+                        "{angle},{},{},{},{}",
+                        reflectances(out),
+                        reflectances(inn),
+                        phases(out),
+                        phases(inn)
+                    );
+                }
+            }
+            Interface::Conductor { eta, label } => {
+                let _ = writeln!(csv, "# prisma fresnel: {label}, n + ik = {} + {}i", eta.re, eta.im);
+                let _ = writeln!(csv, "# phases in degrees: {PHASE_CONVENTION}");
+                let _ = writeln!(
+                    csv,
+                    "angle_deg,rs_outside,rp_outside,r_outside,phase_s_deg,phase_p_deg,delta_deg"
+                );
+                for (angle, row) in self.angles_deg.iter().zip(&self.outside) {
+                    let _ = writeln!(csv, "{angle},{},{}", reflectances(row), phases(row));
+                }
+            }
+        }
+        csv
+    }
+}
+
 /// Runs `prisma fresnel`.
 pub fn run(args: &FresnelArgs) -> Result<(), CliError> {
     if let Some(fixture) = &args.fixture {
@@ -59,44 +140,8 @@ pub fn run(args: &FresnelArgs) -> Result<(), CliError> {
         return Err(CliError::Input(anyhow!("--wavelength must be in 200–2000 nm, got {}", args.wavelength)));
     }
     let interface = parse_spec(spec, args.wavelength).map_err(CliError::Input)?;
-    let angles: Vec<f64> = (0..=360).map(|i| f64::from(i) * 0.25).collect();
-    let mut csv = String::new();
-    let mut outside: [Vec<(f64, f64)>; 3] = Default::default();
-    let mut inside: [Vec<(f64, f64)>; 3] = Default::default();
-    match &interface {
-        Interface::Dielectric { n, label } => {
-            let _ = writeln!(csv, "# prisma fresnel: {label}, n = {n} (relative to vacuum)");
-            let _ = writeln!(csv, "angle_deg,rs_outside,rp_outside,r_outside,rs_inside,rp_inside,r_inside");
-            for &angle in &angles {
-                let cos = angle.to_radians().cos() as f32;
-                let out = fresnel_dielectric_amplitudes(cos, *n);
-                let inn = fresnel_dielectric_amplitudes(-cos, *n);
-                let row_out = [out.reflectance_s, out.reflectance_p, out.reflectance];
-                let row_in = [inn.reflectance_s, inn.reflectance_p, inn.reflectance];
-                let _ = writeln!(
-                    csv,
-                    "{angle},{},{},{},{},{},{}",
-                    row_out[0], row_out[1], row_out[2], row_in[0], row_in[1], row_in[2]
-                );
-                for k in 0..3 {
-                    outside[k].push((angle, f64::from(row_out[k])));
-                    inside[k].push((angle, f64::from(row_in[k])));
-                }
-            }
-        }
-        Interface::Conductor { eta, label } => {
-            let _ = writeln!(csv, "# prisma fresnel: {label}, n + ik = {} + {}i", eta.re, eta.im);
-            let _ = writeln!(csv, "angle_deg,rs_outside,rp_outside,r_outside");
-            for &angle in &angles {
-                let f = fresnel_conductor(angle.to_radians().cos() as f32, *eta);
-                let row = [f.reflectance_s, f.reflectance_p, f.reflectance];
-                let _ = writeln!(csv, "{angle},{},{},{}", row[0], row[1], row[2]);
-                for k in 0..3 {
-                    outside[k].push((angle, f64::from(row[k])));
-                }
-            }
-        }
-    }
+    let table = Table::new(&interface);
+    let csv = table.csv(&interface);
     if let Some(path) = &args.output {
         write_text(path, &csv).map_err(CliError::Failed)?;
         say!("wrote {}", path.display());
@@ -104,37 +149,91 @@ pub fn run(args: &FresnelArgs) -> Result<(), CliError> {
         say!("{}", csv.trim_end());
     }
     if let Some(path) = &args.plot {
-        let panels = curve_panels(&interface, outside, inside, args.wavelength);
-        write_chart(path, &panels, (640, 480)).context("writing the plot").map_err(CliError::Failed)?;
+        let panels = curve_panels(&interface, &table, args.wavelength);
+        // Reflectances on the first row, phases under them.
+        let columns = panels.len() / 2;
+        write_chart_grid(path, &panels, columns, (640, 480))
+            .context("writing the plot")
+            .map_err(CliError::Failed)?;
         say!("wrote {}", path.display());
     }
     Ok(())
 }
 
-fn curve_panels(
-    interface: &Interface,
-    outside: [Vec<(f64, f64)>; 3],
-    inside: [Vec<(f64, f64)>; 3],
-    wavelength_nm: f32,
-) -> Vec<Panel> {
-    let names = ["Rs (s, TE)", "Rp (p, TM)", "R unpolarised"];
-    let styles = [Style::Dashed, Style::Dashed, Style::Line];
-    let series = |curves: [Vec<(f64, f64)>; 3]| -> Vec<Series> {
-        curves
-            .into_iter()
-            .enumerate()
-            .map(|(k, points)| Series { label: names[k].into(), points, color: PALETTE[k], style: styles[k] })
-            .collect()
+/// The reflectance panels (outside, and inside for a dielectric), then the phase panels in the
+/// same order.
+fn curve_panels(interface: &Interface, table: &Table, wavelength_nm: f32) -> Vec<Panel> {
+    let angles = &table.angles_deg;
+    let reflectance_series = |rows: &[Reflection]| -> Vec<Series> {
+        let curve =
+            |value: fn(&Reflection) -> f64| angles.iter().copied().zip(rows.iter().map(value)).collect();
+        vec![
+            Series {
+                label: "Rs (s, TE)".into(),
+                points: curve(|row| row.reflectance_s),
+                color: PALETTE[0],
+                style: Style::Dashed,
+            },
+            Series {
+                label: "Rp (p, TM)".into(),
+                points: curve(|row| row.reflectance_p),
+                color: PALETTE[1],
+                style: Style::Dashed,
+            },
+            Series {
+                label: "R unpolarised".into(),
+                points: curve(|row| row.reflectance),
+                color: PALETTE[2],
+                style: Style::Line,
+            },
+        ]
     };
-    let panel = |title: String, series: Vec<Series>, markers: Vec<Marker>| Panel {
+    let phase_series = |rows: &[Reflection]| -> Vec<Series> {
+        let curve = |value: fn(&Reflection) -> f64| curves::phase_points(angles, rows.iter().map(value));
+        vec![
+            Series {
+                label: "arg r_s".into(),
+                points: curve(|row| row.phase_s_deg),
+                color: PALETTE[0],
+                style: Style::Dashed,
+            },
+            Series {
+                label: "arg r_p".into(),
+                points: curve(|row| row.phase_p_deg),
+                color: PALETTE[1],
+                style: Style::Dashed,
+            },
+            Series {
+                label: "δ = arg r_p − arg r_s".into(),
+                points: curve(|row| row.delta_deg),
+                color: PALETTE[2],
+                style: Style::Line,
+            },
+        ]
+    };
+    let reflectance_panel = |title: String, series: Vec<Series>, markers: Vec<Marker>| Panel {
         title,
+        subtitle: String::new(),
         x_label: "angle of incidence θi (degrees)".into(),
         y_label: "reflectance".into(),
         x_range: (0.0, 90.0),
         y_range: (0.0, 1.0),
+        y_ticks: Vec::new(),
         series,
         markers,
         legend: SeriesLabelPosition::UpperLeft,
+    };
+    let phase_panel = |title: String, series: Vec<Series>, markers: Vec<Marker>| Panel {
+        title,
+        subtitle: PHASE_CONVENTION.into(),
+        x_label: "angle of incidence θi (degrees)".into(),
+        y_label: "phase (degrees)".into(),
+        x_range: (0.0, 90.0),
+        y_range: (-190.0, 190.0),
+        y_ticks: (-4..=4).map(|k| f64::from(k) * 45.0).collect(),
+        series,
+        markers,
+        legend: SeriesLabelPosition::LowerLeft,
     };
     match interface {
         Interface::Dielectric { n, label } => {
@@ -154,19 +253,45 @@ fn curve_panels(
                 markers_out.push(Marker { x: critical, label: format!("critical {critical:.2}°") });
             }
             vec![
-                panel(
+                reflectance_panel(
                     format!("vacuum → {label} (n = {n:.4} at {wavelength_nm} nm)"),
-                    series(outside),
+                    reflectance_series(&table.outside),
+                    markers_out.clone(),
+                ),
+                reflectance_panel(
+                    format!("{label} → vacuum (from inside)"),
+                    reflectance_series(&table.inside),
+                    markers_in.clone(),
+                ),
+                phase_panel(
+                    format!("phases of r, vacuum → {label}"),
+                    phase_series(&table.outside),
                     markers_out,
                 ),
-                panel(format!("{label} → vacuum (from inside)"), series(inside), markers_in),
+                phase_panel(
+                    format!("phases of r, {label} → vacuum (TIR past critical)"),
+                    phase_series(&table.inside),
+                    markers_in,
+                ),
             ]
         }
-        Interface::Conductor { eta, label } => vec![panel(
-            format!("vacuum → {label} (n + ik = {:.3} + {:.3}i at {wavelength_nm} nm)", eta.re, eta.im),
-            series(outside),
-            Vec::new(),
-        )],
+        Interface::Conductor { eta, label } => {
+            let markers: Vec<Marker> = curves::principal_angle(angles, &table.outside)
+                .map(|angle| Marker { x: angle, label: format!("principal {angle:.2}° (δ = 90°)") })
+                .into_iter()
+                .collect();
+            vec![
+                reflectance_panel(
+                    format!(
+                        "vacuum → {label} (n + ik = {:.3} + {:.3}i at {wavelength_nm} nm)",
+                        eta.re, eta.im
+                    ),
+                    reflectance_series(&table.outside),
+                    markers.clone(),
+                ),
+                phase_panel(format!("phases of r, vacuum → {label}"), phase_series(&table.outside), markers),
+            ]
+        }
     }
 }
 
@@ -342,6 +467,8 @@ pub fn fixture_overlay(path: &Path, plot: Option<&Path>) -> Result<f64, CliError
         }
         let x_min = if key_cols.len() == 1 { -1.0 } else { 0.0 };
         let panel = Panel {
+            subtitle: String::new(),
+            y_ticks: Vec::new(),
             title: format!(
                 "{}: Mitsuba 3 (points) vs prisma (lines), max |Δ| = {largest:.1e}",
                 path.file_name().map_or_else(String::new, |n| n.to_string_lossy().into_owned())

@@ -105,10 +105,12 @@ pub fn run(args: &GlassArgs) -> Result<(), CliError> {
         let pad = 0.05 * (y_range.1 - y_range.0).max(0.01);
         let panel = Panel {
             title: "Index of refraction n(λ)".into(),
+            subtitle: String::new(),
             x_label: "wavelength λ (nm)".into(),
             y_label: "n".into(),
             x_range: (f64::from(LAMBDA_MIN_NM), f64::from(LAMBDA_MAX_NM)),
             y_range: (y_range.0 - pad, y_range.1 + pad),
+            y_ticks: Vec::new(),
             series,
             markers: vec![
                 Marker { x: LAMBDA_F_NM, label: "F 486.1".into() },

@@ -6,6 +6,7 @@ mod export;
 mod fresnel;
 mod glass;
 mod plot;
+mod polviz;
 mod render;
 mod validate;
 
@@ -31,6 +32,8 @@ enum Command {
     Fresnel(fresnel::FresnelArgs),
     /// The glass catalogue: n_d, V_d and sources, n(λ) tables and plots.
     Glass(glass::GlassArgs),
+    /// False-colour maps of a polarised render (DoLP, AoLP, S3/S0) with legends, as one PNG.
+    Polviz(polviz::PolvizArgs),
     /// Compare prisma with Mitsuba 3 references and analytic answers (validation/cases.toml).
     Validate(validate::ValidateArgs),
     /// Raw ray throughput of the BVH on an OBJ mesh for a stored ray set (benchmarks).
@@ -68,6 +71,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Some(Command::Export(args)) => export::run(&args),
         Some(Command::Fresnel(args)) => fresnel::run(&args),
         Some(Command::Glass(args)) => glass::run(&args),
+        Some(Command::Polviz(args)) => polviz::run(&args),
         Some(Command::Validate(args)) => validate::run(&args),
         Some(Command::BenchRays(args)) => bench::run(&args),
         None => render::run(&render::RenderArgs::default_scene(default_scene())),
