@@ -118,7 +118,10 @@ fn undefined_material() {
 
 #[test]
 fn negative_or_zero_radius() {
-    assert_rejected(&GOOD.replace("radius = 1\n", "radius = -1\n"), &["shapes[0].radius", "> 0"]);
+    assert_rejected(
+        &GOOD.replace("radius = 1\n", "radius = -1\n"),
+        &["shapes[0].radius", "must lie in [1e-10"],
+    );
     assert_rejected(&GOOD.replace("radius = 1\n", "radius = 0\n"), &["shapes[0].radius"]);
 }
 
