@@ -10,8 +10,9 @@ use glam::Vec3;
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 
-use crate::film::Film;
+use crate::film::{Film, NonFinitePixel};
 use crate::integrator::{Fault, TraceStats, Whitted};
+use crate::memory;
 use crate::sampler::{PixelKey, PixelRng};
 use crate::scene::{RenderSettings, Scene};
 use crate::spectrum::{cie, SampledWavelengths};
@@ -60,28 +61,48 @@ pub struct RenderStats {
 #[derive(Debug, thiserror::Error)]
 pub enum RenderError {
     /// The thread pool could not be built.
-    #[error("cannot start {threads} render threads: {source}")]
+    #[error("cannot start {threads} render threads")]
     ThreadPool {
         /// Threads asked for.
         threads: usize,
         /// The cause.
         source: rayon::ThreadPoolBuildError,
     },
+    /// The image would not fit in memory (checked before rendering).
+    #[error(transparent)]
+    TooLarge(#[from] memory::TooLarge),
+    /// A pixel came out NaN or infinite: radiance overflowed f32.
+    #[error(transparent)]
+    NonFinite(#[from] NonFinitePixel),
+}
+
+/// Bytes of memory a render of `width`×`height` pixels on `threads` threads needs, with its
+/// EXR and PNG output ([`memory::estimate`]).
+pub fn memory_needed(width: u32, height: u32, threads: usize) -> u64 {
+    memory::estimate(width, height, threads as u64 * THREAD_STACK_BYTES as u64)
 }
 
 /// Renders `scene` (its camera decides the resolution) as `job` says.
+///
+/// Errors before any work when the image cannot fit in memory, and after the render when a
+/// pixel is not finite (naming the first one).
 pub fn render(scene: &Scene, job: &Job) -> Result<(Film, RenderStats), RenderError> {
+    let (width, height) = (scene.camera.width(), scene.camera.height());
+    let threads = if job.threads == 0 { rayon::current_num_threads() } else { job.threads };
+    memory::check(width, height, memory_needed(width, height, threads))?;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(job.threads)
         .stack_size(THREAD_STACK_BYTES)
         .build()
         .map_err(|source| RenderError::ThreadPool { threads: job.threads, source })?;
     let threads = pool.current_num_threads();
-    let (width, height) = (scene.camera.width(), scene.camera.height());
     let tiles: Vec<(u32, u32)> = (0..height.div_ceil(TILE))
         .flat_map(|ty| (0..width.div_ceil(TILE)).map(move |tx| (tx * TILE, ty * TILE)))
         .collect();
-    let progress = if job.progress { ProgressBar::new(tiles.len() as u64) } else { ProgressBar::hidden() };
+    // Progress in camera samples, not tiles: edge tiles are smaller, and a count of tiles done
+    // overstated the progress of images whose width or height is not a multiple of the tile.
+    let samples = u64::from(width) * u64::from(height) * u64::from(job.settings.spp);
+    let progress = if job.progress { ProgressBar::new(samples) } else { ProgressBar::hidden() };
     if let Ok(style) =
         ProgressStyle::with_template("{spinner} [{elapsed_precise}] {wide_bar} {percent}% eta {eta}")
     {
@@ -103,7 +124,7 @@ pub fn render(scene: &Scene, job: &Job) -> Result<(Film, RenderStats), RenderErr
             .with_max_len(1)
             .map(|&(x0, y0)| {
                 let tile = render_tile(scene, &integrator, job, x0, y0);
-                progress.inc(1);
+                progress.inc(tile.0.len() as u64 * u64::from(job.settings.spp));
                 tile
             })
             .collect()
@@ -120,13 +141,10 @@ pub fn render(scene: &Scene, job: &Job) -> Result<(Film, RenderStats), RenderErr
             xyz[start..start + tile_width].copy_from_slice(chunk);
         }
     }
-    let stats = RenderStats {
-        rays,
-        samples: u64::from(width) * u64::from(height) * u64::from(job.settings.spp),
-        elapsed: start.elapsed(),
-        threads,
-    };
-    Ok((Film::new(width, height, xyz, job.monochromatic_nm), stats))
+    let stats = RenderStats { rays, samples, elapsed: start.elapsed(), threads };
+    let film = Film::new(width, height, xyz, job.monochromatic_nm);
+    film.check_finite()?;
+    Ok((film, stats))
 }
 
 /// The mean XYZ of every pixel of the tile at (`x0`, `y0`), row-major.
