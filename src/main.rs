@@ -1,6 +1,7 @@
 //! The `prisma` command line. Without a subcommand it renders the bundled dispersive showcase.
 //!
-//! Exit codes: 0 success, 1 a failure while running (I/O, ...), 2 bad input (arguments or scene).
+//! Exit codes: 0 success, 1 a failure while running (I/O, ...), 2 bad input (arguments or scene),
+//! 130 interrupted (Ctrl-C, SIGTERM or SIGHUP: temporary output files are removed first).
 
 mod cli;
 
@@ -9,6 +10,13 @@ use std::process::ExitCode;
 use clap::Parser;
 
 fn main() -> ExitCode {
+    // An interrupted command leaves no partial output: the handler removes the temporary files
+    // being written (the finished outputs are renamed into place atomically) and exits.
+    // If the handler cannot be installed, the default action (terminate) still applies.
+    let _ = ctrlc::set_handler(|| {
+        prisma::output::file::remove_temporaries();
+        std::process::exit(130);
+    });
     let args = cli::Cli::parse();
     match cli::run(args) {
         Ok(()) => ExitCode::SUCCESS,

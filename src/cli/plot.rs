@@ -5,12 +5,15 @@
 use std::path::Path;
 use std::sync::Once;
 
-use anyhow::{anyhow, bail};
+use anyhow::anyhow;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::FontStyle;
 
-use prisma::output::{atomic::write_atomically, OutputError};
+use super::CliError;
+use prisma::output::file::{check_destination, text_into, Destination, Sink};
+use prisma::output::png::encode_png_bytes;
+use prisma::output::OutputError;
 
 /// How a series is drawn.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -90,24 +93,61 @@ fn register_font() -> anyhow::Result<()> {
     result
 }
 
-/// Draws `panels` side by side into `path` (`.svg` or `.png`), each panel `panel_size` pixels.
-pub fn write_chart(path: &Path, panels: &[Panel], panel_size: (u32, u32)) -> anyhow::Result<()> {
-    register_font()?;
-    let size = (panel_size.0 * panels.len().max(1) as u32, panel_size.1);
+/// The file format of a plot, from its name.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PlotFormat {
+    /// Scalable vector graphics.
+    Svg,
+    /// A PNG bitmap.
+    Png,
+}
+
+/// Checks a plot path before any work: a usable destination named `.svg` or `.png` (bad
+/// input, exit code 2, otherwise). A special file (/dev/null) gets SVG.
+pub fn check_plot_path(path: &Path) -> Result<PlotFormat, CliError> {
+    let destination = check_destination(path).map_err(|e| CliError::Input(e.into()))?;
     let extension = path.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
-    let codec = |message: String| OutputError::Codec { path: path.display().to_string(), message };
-    match extension.as_str() {
-        "svg" => write_atomically(path, |tmp| {
-            let root = SVGBackend::new(tmp, size).into_drawing_area();
-            draw(&root, panels).and_then(|()| root.present().map_err(|e| e.to_string())).map_err(codec)
-        })?,
-        "png" => write_atomically(path, |tmp| {
-            let root = BitMapBackend::new(tmp, size).into_drawing_area();
-            draw(&root, panels).and_then(|()| root.present().map_err(|e| e.to_string())).map_err(codec)
-        })?,
-        _ => bail!("{}: the plot file must end in .svg or .png", path.display()),
+    match (extension.as_str(), destination) {
+        ("svg", _) | (_, Destination::Special(_)) => Ok(PlotFormat::Svg),
+        ("png", _) => Ok(PlotFormat::Png),
+        _ => Err(CliError::Input(anyhow!("{}: the plot file must end in .svg or .png", path.display()))),
     }
-    Ok(())
+}
+
+/// Draws `panels` side by side, each `panel_size` pixels, as `format` into `sink` (errors name
+/// `path`). The drawing is made in memory first, then written.
+pub fn encode_chart(
+    sink: &mut Sink,
+    path: &Path,
+    format: PlotFormat,
+    panels: &[Panel],
+    panel_size: (u32, u32),
+) -> Result<(), OutputError> {
+    let codec = |message: String| OutputError::Codec { path: path.display().to_string(), message };
+    register_font().map_err(|e| codec(e.to_string()))?;
+    let size = (panel_size.0 * panels.len().max(1) as u32, panel_size.1);
+    match format {
+        PlotFormat::Svg => {
+            let mut svg = String::new();
+            {
+                let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
+                draw(&root, panels)
+                    .and_then(|()| root.present().map_err(|e| e.to_string()))
+                    .map_err(codec)?;
+            }
+            text_into(sink, path, &svg)
+        }
+        PlotFormat::Png => {
+            let mut pixels = vec![0u8; size.0 as usize * size.1 as usize * 3];
+            {
+                let root = BitMapBackend::with_buffer(&mut pixels, size).into_drawing_area();
+                draw(&root, panels)
+                    .and_then(|()| root.present().map_err(|e| e.to_string()))
+                    .map_err(codec)?;
+            }
+            encode_png_bytes(sink, path, size.0, size.1, &pixels)
+        }
+    }
 }
 
 fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, panels: &[Panel]) -> Result<(), String> {

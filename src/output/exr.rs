@@ -12,11 +12,24 @@ use ::exr::prelude::{
 };
 use glam::Vec3;
 
-use super::atomic::write_atomically;
+use super::file::{write_file, Sink};
 use super::OutputError;
 
 /// Writes `rgb` (linear sRGB) and `xyz` (row-major, top row first) to an EXR file.
 pub fn write_exr(
+    path: &Path,
+    width: u32,
+    height: u32,
+    rgb: &[Vec3],
+    xyz: &[Vec3],
+) -> Result<(), OutputError> {
+    write_file(path, |sink| encode_exr(sink, path, width, height, rgb, xyz))
+}
+
+/// The EXR file of [`write_exr`] into `sink` (to stage it with other outputs,
+/// [`super::file::Outputs::stage`]); errors name `path`.
+pub fn encode_exr(
+    sink: &mut Sink,
     path: &Path,
     width: u32,
     height: u32,
@@ -50,11 +63,9 @@ pub fn write_exr(
         blue: Vec2(0.15, 0.06),
         white: Vec2(0.3127, 0.3290),
     });
-    write_atomically(path, |tmp| {
-        image
-            .write()
-            .to_file(tmp)
-            .map_err(|e| OutputError::Codec { path: path.display().to_string(), message: e.to_string() })
+    image.write().to_buffered(sink).map_err(|e| match e {
+        ::exr::error::Error::Io(source) => OutputError::Io { path: path.display().to_string(), source },
+        e => OutputError::Codec { path: path.display().to_string(), message: e.to_string() },
     })
 }
 
