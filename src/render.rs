@@ -88,7 +88,11 @@ pub fn memory_needed(width: u32, height: u32, threads: usize) -> u64 {
 /// pixel is not finite (naming the first one).
 pub fn render(scene: &Scene, job: &Job) -> Result<(Film, RenderStats), RenderError> {
     let (width, height) = (scene.camera.width(), scene.camera.height());
-    let threads = if job.threads == 0 { rayon::current_num_threads() } else { job.threads };
+    // The pool's thread count, without starting a pool to ask it.
+    let threads = match job.threads {
+        0 => std::thread::available_parallelism().map_or(1, usize::from),
+        n => n,
+    };
     memory::check(width, height, memory_needed(width, height, threads))?;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(job.threads)

@@ -7,7 +7,8 @@
 //! PRISMA_FUZZ_MUTANTS=100000 PRISMA_FUZZ_SEED=1 cargo test --release --test fuzz_scenes -- --ignored --nocapture
 //! ```
 //!
-//! Findings are kept under `target/fuzz-scenes/findings/` and listed in the report.
+//! Each finding's scene file is kept under `target/tmp/fuzz-scenes/findings/` (the short run's
+//! under `target/tmp/fuzz-scenes-short/`) and listed in the report with its mutations.
 
 mod fuzz;
 
