@@ -7,7 +7,7 @@ mod cli;
 
 use std::process::ExitCode;
 
-use clap::Parser;
+use clap::Parser as _;
 
 fn main() -> ExitCode {
     // An interrupted command leaves no partial output: the handler removes the temporary files
@@ -17,7 +17,22 @@ fn main() -> ExitCode {
         prisma::output::file::remove_temporaries();
         std::process::exit(130);
     });
-    let args = cli::Cli::parse();
+    let args = match cli::Cli::try_parse() {
+        Ok(args) => args,
+        // --help and --version: clap prints them to standard output.
+        Err(error) if !error.use_stderr() => {
+            let _ = error.print();
+            return ExitCode::SUCCESS;
+        }
+        // Bad arguments: clap's first line (its message), then one hint, as every other input
+        // error is one line.
+        Err(error) => {
+            let rendered = error.render().to_string();
+            let message = rendered.lines().next().unwrap_or("error: invalid arguments");
+            eprintln!("{message} (try --help)");
+            return ExitCode::from(2);
+        }
+    };
     match cli::run(args) {
         Ok(()) => ExitCode::SUCCESS,
         Err(err) => {

@@ -120,10 +120,9 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     settings.spp = args.spp.unwrap_or(settings.spp);
     settings.seed = args.seed.unwrap_or(settings.seed);
     settings.max_depth = args.max_depth.unwrap_or(settings.max_depth);
-    if let Some(warning) = settings.exponential_growth_warning(&scene) {
-        eprintln!("warning: {}: {warning}", args.scene.display());
-    }
-
+    settings.check_ray_tree_bound().map_err(|message| {
+        CliError::Input(anyhow!("{}: with --max-depth: {message}", args.scene.display()))
+    })?;
     let stem = match args.wavelength {
         Some(nm) => format!("{}_{nm}nm", scene.name),
         None => scene.name.clone(),

@@ -16,7 +16,7 @@ use crate::geometry::Geometry;
 use crate::light::Light;
 use crate::material::Material;
 use crate::spectrum::DenseSpectrum;
-use limits::MAX_DEPTH_UNPRUNED_QUIET;
+use limits::{MAX_DEPTH_UNPRUNED, MIN_PRUNE_BELOW_DEEP};
 
 /// Sampling settings of a render.
 #[derive(Debug, Clone, PartialEq)]
@@ -42,24 +42,21 @@ impl Default for RenderSettings {
 }
 
 impl RenderSettings {
-    /// A one-line warning when these settings let the Whitted ray tree of `scene` grow
-    /// exponentially: with `prune_below = 0` every dielectric hit keeps both branches, so a
-    /// camera sample may cost up to 2^`max_depth` rays where glass faces glass (measured: 40 s
-    /// at depth 24 where depth 16 took 1 s). `None` when pruning is on, the depth is at most
-    /// [`MAX_DEPTH_UNPRUNED_QUIET`], or no shape is a dielectric.
-    pub fn exponential_growth_warning(&self, scene: &Scene) -> Option<String> {
-        let has_glass = scene
-            .surfaces
-            .iter()
-            .any(|s| matches!(scene.materials.get(s.material as usize), Some(Material::Dielectric(_))));
-        (self.prune_below == 0.0 && self.max_depth > MAX_DEPTH_UNPRUNED_QUIET && has_glass).then(|| {
-            format!(
-                "prune_below = 0 with max_depth = {} lets every glass hit double the ray tree \
-                 (up to 2^{} rays per sample): the render may take exponentially long; \
-                 keep max_depth ≤ {MAX_DEPTH_UNPRUNED_QUIET} or set prune_below > 0 (default 0.01)",
-                self.max_depth, self.max_depth
-            )
-        })
+    /// Checks the rule that bounds the Whitted ray tree: with `prune_below` below
+    /// [`MIN_PRUNE_BELOW_DEEP`] (0: pruning off), `max_depth` may be at most
+    /// [`MAX_DEPTH_UNPRUNED`], as every glass hit may keep both branches (2^max_depth rays per
+    /// sample); with stronger pruning, Russian roulette bounds the tree at any depth. The error
+    /// says what to change.
+    pub fn check_ray_tree_bound(&self) -> Result<(), String> {
+        if self.prune_below < MIN_PRUNE_BELOW_DEEP && self.max_depth > MAX_DEPTH_UNPRUNED {
+            return Err(format!(
+                "max_depth = {} with prune_below = {} could cost up to 2^{} rays per sample; with \
+                 prune_below below {MIN_PRUNE_BELOW_DEEP:e}, max_depth must be at most \
+                 {MAX_DEPTH_UNPRUNED} (or set prune_below ≥ {MIN_PRUNE_BELOW_DEEP:e}; the default is 0.01)",
+                self.max_depth, self.prune_below, self.max_depth
+            ));
+        }
+        Ok(())
     }
 }
 
