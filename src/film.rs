@@ -125,6 +125,21 @@ impl PixelSums {
     }
 }
 
+/// A pixel whose value is not a finite number: radiance overflowed f32 somewhere in its samples.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error(
+    "pixel ({x}, {y}) is not finite (XYZ = {xyz}): the scene's radiance overflows 32-bit floats there \
+     (see the limits in scenes/README.md)"
+)]
+pub struct NonFinitePixel {
+    /// Column, from the left.
+    pub x: u32,
+    /// Row, from the top.
+    pub y: u32,
+    /// Its value.
+    pub xyz: Vec3,
+}
+
 /// A finished image: row-major, top row first.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Film {
@@ -180,6 +195,31 @@ impl Film {
             if layout.stokes { pixels.iter().map(|p| p.stokes_xyz).collect() } else { Vec::new() };
         let bands = pixels.into_iter().flat_map(|p| p.bands).collect();
         Self { width, height, layout, xyz, stokes_xyz, bands }
+    }
+
+    /// The first pixel (row-major) that is not finite in any value it holds (XYZ of S0–S3, band
+    /// means) or in linear sRGB (the conversion can overflow a finite XYZ near f32's limit), if
+    /// any. Checked in every build: a NaN would otherwise be silently black in the PNG preview.
+    pub fn check_finite(&self) -> Result<(), NonFinitePixel> {
+        let per_pixel = self.layout.band_values();
+        let displayable = |xyz: Vec3| match self.layout.monochromatic_nm {
+            Some(_) => xyz.is_finite(),
+            None => xyz.is_finite() && xyz_to_linear_srgb(xyz).is_finite(),
+        };
+        let finite = |index: usize| {
+            displayable(self.xyz[index])
+                && self.stokes_xyz.get(index).is_none_or(|s| s.iter().all(|&v| displayable(v)))
+                && (per_pixel == 0
+                    || self.bands[index * per_pixel..(index + 1) * per_pixel].iter().all(|v| v.is_finite()))
+        };
+        match (0..self.xyz.len()).find(|&index| !finite(index)) {
+            None => Ok(()),
+            Some(index) => Err(NonFinitePixel {
+                x: (index % self.width as usize) as u32,
+                y: (index / self.width as usize) as u32,
+                xyz: self.xyz[index],
+            }),
+        }
     }
 
     /// Width in pixels.
@@ -278,5 +318,27 @@ mod tests {
             assert_eq!(means.bands[5 + band], 0.0, "S1 of unpolarised light");
         }
         assert!((means.xyz.y - 1.0).abs() < 1e-3, "{}", means.xyz);
+    }
+
+    /// A NaN or infinite pixel is an error naming its column and row (row-major, top first);
+    /// it used to be written, and showed as black in the PNG.
+    #[test]
+    fn nan_pixels_are_named() {
+        let mut xyz = vec![Vec3::splat(0.5); 6];
+        let film = Film::new(3, 2, xyz.clone(), None);
+        assert_eq!(film.check_finite(), Ok(()));
+        xyz[4] = Vec3::new(0.1, f32::NAN, 0.2);
+        let error = Film::new(3, 2, xyz.clone(), None).check_finite().expect_err("NaN");
+        assert_eq!((error.x, error.y), (1, 1));
+        assert!(error.to_string().contains("pixel (1, 1)"), "{error}");
+        // A finite XYZ near f32's limit whose sRGB overflows is caught too.
+        xyz[4] = Vec3::new(3e38, 0.0, 0.0);
+        assert!(Film::new(3, 2, xyz, None).check_finite().is_err());
+        // S1–S3 are checked as well as S0.
+        let layout = FilmLayout { stokes: true, ..FilmLayout::default() };
+        let mut pixels = vec![PixelMeans::default(); 6];
+        pixels[5].stokes_xyz[2] = Vec3::new(0.0, f32::INFINITY, 0.0);
+        let error = Film::assemble(3, 2, layout, pixels).check_finite().expect_err("S3");
+        assert_eq!((error.x, error.y), (2, 1));
     }
 }

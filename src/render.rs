@@ -9,8 +9,9 @@ use std::time::{Duration, Instant};
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 
-use crate::film::{Film, FilmLayout, PixelMeans, PixelSums, SpectralBands};
+use crate::film::{Film, FilmLayout, NonFinitePixel, PixelMeans, PixelSums, SpectralBands};
 use crate::integrator::{Beam, Fault, TraceStats, Whitted};
+use crate::memory;
 use crate::polarization::Stokes;
 use crate::sampler::{PixelKey, PixelRng};
 use crate::scene::{RenderSettings, Scene};
@@ -73,28 +74,52 @@ pub struct RenderStats {
 #[derive(Debug, thiserror::Error)]
 pub enum RenderError {
     /// The thread pool could not be built.
-    #[error("cannot start {threads} render threads: {source}")]
+    #[error("cannot start {threads} render threads")]
     ThreadPool {
         /// Threads asked for.
         threads: usize,
         /// The cause.
         source: rayon::ThreadPoolBuildError,
     },
+    /// The image would not fit in memory (checked before rendering).
+    #[error(transparent)]
+    TooLarge(#[from] memory::TooLarge),
+    /// A pixel came out NaN or infinite: radiance overflowed f32.
+    #[error(transparent)]
+    NonFinite(#[from] NonFinitePixel),
+}
+
+/// Bytes of memory a render of `width`×`height` pixels of `layout` on `threads` threads needs, with its
+/// EXR and PNG output ([`memory::estimate`]).
+pub fn memory_needed(width: u32, height: u32, layout: &FilmLayout, threads: usize) -> u64 {
+    memory::estimate(width, height, layout.band_values(), threads as u64 * THREAD_STACK_BYTES as u64)
 }
 
 /// Renders `scene` (its camera decides the resolution) as `job` says.
+///
+/// Errors before any work when the image cannot fit in memory, and after the render when a
+/// pixel is not finite (naming the first one).
 pub fn render(scene: &Scene, job: &Job) -> Result<(Film, RenderStats), RenderError> {
+    let (width, height) = (scene.camera.width(), scene.camera.height());
+    // The pool's thread count, without starting a pool to ask it.
+    let threads = match job.threads {
+        0 => std::thread::available_parallelism().map_or(1, usize::from),
+        n => n,
+    };
+    memory::check(width, height, memory_needed(width, height, &job.layout(), threads))?;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(job.threads)
         .stack_size(THREAD_STACK_BYTES)
         .build()
         .map_err(|source| RenderError::ThreadPool { threads: job.threads, source })?;
     let threads = pool.current_num_threads();
-    let (width, height) = (scene.camera.width(), scene.camera.height());
     let tiles: Vec<(u32, u32)> = (0..height.div_ceil(TILE))
         .flat_map(|ty| (0..width.div_ceil(TILE)).map(move |tx| (tx * TILE, ty * TILE)))
         .collect();
-    let progress = if job.progress { ProgressBar::new(tiles.len() as u64) } else { ProgressBar::hidden() };
+    // Progress in camera samples, not tiles: edge tiles are smaller, and a count of tiles done
+    // overstated the progress of images whose width or height is not a multiple of the tile.
+    let samples = u64::from(width) * u64::from(height) * u64::from(job.settings.spp);
+    let progress = if job.progress { ProgressBar::new(samples) } else { ProgressBar::hidden() };
     if let Ok(style) =
         ProgressStyle::with_template("{spinner} [{elapsed_precise}] {wide_bar} {percent}% eta {eta}")
     {
@@ -121,7 +146,7 @@ pub fn render(scene: &Scene, job: &Job) -> Result<(Film, RenderStats), RenderErr
                 } else {
                     render_tile::<SampledSpectrum>(scene, &integrator, job, &layout, x0, y0)
                 };
-                progress.inc(1);
+                progress.inc(tile.0.len() as u64 * u64::from(job.settings.spp));
                 tile
             })
             .collect()
@@ -138,13 +163,10 @@ pub fn render(scene: &Scene, job: &Job) -> Result<(Film, RenderStats), RenderErr
             pixels[(y0 as usize + row) * width as usize + x0 as usize + column] = means;
         }
     }
-    let stats = RenderStats {
-        rays,
-        samples: u64::from(width) * u64::from(height) * u64::from(job.settings.spp),
-        elapsed: start.elapsed(),
-        threads,
-    };
-    Ok((Film::assemble(width, height, layout, pixels), stats))
+    let stats = RenderStats { rays, samples, elapsed: start.elapsed(), threads };
+    let film = Film::assemble(width, height, layout, pixels);
+    film.check_finite()?;
+    Ok((film, stats))
 }
 
 /// The means of every pixel of the tile at (`x0`, `y0`), row-major, carrying beams of type `B`.

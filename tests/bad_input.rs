@@ -118,7 +118,10 @@ fn undefined_material() {
 
 #[test]
 fn negative_or_zero_radius() {
-    assert_rejected(&GOOD.replace("radius = 1\n", "radius = -1\n"), &["shapes[0].radius", "> 0"]);
+    assert_rejected(
+        &GOOD.replace("radius = 1\n", "radius = -1\n"),
+        &["shapes[0].radius", "must lie in [1e-10"],
+    );
     assert_rejected(&GOOD.replace("radius = 1\n", "radius = 0\n"), &["shapes[0].radius"]);
 }
 
@@ -210,6 +213,9 @@ fn bad_flags_exit_2() {
         let (code, stderr, produced) = render_text(GOOD, flags);
         assert_eq!(code, 2, "{flags:?}: {stderr}");
         assert!(!produced, "{flags:?}");
+        // One line, as every input error (clap's usage block is left to --help).
+        assert_eq!(stderr.trim_end().lines().count(), 1, "{flags:?}: {stderr}");
+        assert!(stderr.starts_with("error: "), "{stderr}");
     }
 }
 

@@ -135,7 +135,7 @@ fn bad_inputs_are_one_line_errors_with_exit_code_2() {
 
     // A directory where a file is in the way cannot be created.
     let blocked = dir.path().join("notes.exr/out.png");
-    assert_rejected(&polviz(&colour, &blocked, &[]), &blocked, "cannot write the figure");
+    assert_rejected(&polviz(&colour, &blocked, &[]), &blocked, "is not a directory");
 
     let mono = render(dir.path(), "mono", &["--wavelength", "550"]);
     assert_rejected(&polviz(&mono, &png, &["--channel", "G"]), &png, "--channel needs the RGB Stokes layers");

@@ -23,7 +23,7 @@ height = 16
 
 [render]
 spp = 2
-max_depth = 200
+max_depth = 20
 prune_below = 0
 
 [materials.glass]

@@ -9,14 +9,15 @@
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
-use anyhow::{anyhow, Context};
+use anyhow::anyhow;
 use clap::Args;
 use serde_json::{json, Map, Value};
 
-use super::{say, CliError};
+use super::{output_error, say, CliError};
 use prisma::light::Light;
 use prisma::material::{Conductor, Material};
 use prisma::optics::Ior;
+use prisma::output::file::{check_destination, text_into, Outputs};
 use prisma::spectrum::{DenseSpectrum, LAMBDA_MAX_NM, LAMBDA_MIN_NM};
 
 /// Arguments of `prisma export`.
@@ -28,7 +29,7 @@ pub struct ExportArgs {
     #[arg(short, long, value_name = "DIR")]
     output: PathBuf,
     /// Wavelength step in nm.
-    #[arg(long, value_name = "NM", default_value_t = 1.0)]
+    #[arg(long, value_name = "NM", default_value_t = 1.0, allow_negative_numbers = true)]
     step_nm: f32,
 }
 
@@ -38,6 +39,7 @@ pub fn run(args: &ExportArgs) -> Result<(), CliError> {
         return Err(CliError::Input(anyhow!("--step-nm must be in [0.1, 100], got {}", args.step_nm)));
     }
     let scene = prisma::scene::load(&args.scene).map_err(|e| CliError::Input(e.into()))?;
+    check_destination(&args.output.join("spectra.json")).map_err(|e| CliError::Input(e.into()))?;
     let count = ((LAMBDA_MAX_NM - LAMBDA_MIN_NM) / args.step_nm).floor() as usize + 1;
     let grid: Vec<f32> = (0..count).map(|i| LAMBDA_MIN_NM + i as f32 * args.step_nm).collect();
     let table =
@@ -97,8 +99,11 @@ pub fn run(args: &ExportArgs) -> Result<(), CliError> {
     });
     let text = serde_json::to_string_pretty(&document).map_err(|e| CliError::Failed(e.into()))?;
     let spectra_path = args.output.join("spectra.json");
-    write_text(&spectra_path, &text).map_err(CliError::Failed)?;
-    say!("wrote {}", spectra_path.display());
+    let mut outputs = Outputs::new();
+    let mut written = vec![spectra_path.clone()];
+    outputs
+        .stage(&spectra_path, |sink| text_into(sink, &spectra_path, &text))
+        .map_err(|e| output_error(e, "writing the spectra"))?;
     for (k, mesh) in scene.geometry.meshes().iter().enumerate() {
         let mut obj = format!("# mesh {k} of {} as resolved by prisma (scene space)\n", args.scene.display());
         for p in &mesh.positions {
@@ -108,12 +113,14 @@ pub fn run(args: &ExportArgs) -> Result<(), CliError> {
             let _ = writeln!(obj, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1);
         }
         let path = args.output.join(format!("mesh_{k}.obj"));
-        write_text(&path, &obj).map_err(CliError::Failed)?;
+        outputs
+            .stage(&path, |sink| text_into(sink, &path, &obj))
+            .map_err(|e| output_error(e, "writing a mesh"))?;
+        written.push(path);
+    }
+    outputs.commit().map_err(|e| output_error(e, "writing the export"))?;
+    for path in written {
         say!("wrote {}", path.display());
     }
     Ok(())
-}
-
-fn write_text(path: &std::path::Path, text: &str) -> anyhow::Result<()> {
-    prisma::output::atomic::write_text(path, text).with_context(|| format!("writing {}", path.display()))
 }

@@ -13,13 +13,14 @@ use num_complex::Complex32;
 
 use plotters::chart::SeriesLabelPosition;
 
-use super::plot::{write_chart, write_chart_grid, Marker, Panel, Series, Style, PALETTE};
-use super::{say, CliError};
+use super::plot::{check_plot_path, encode_chart, encode_chart_grid, Marker, Panel, Series, Style, PALETTE};
+use super::{output_error, say, CliError};
 use curves::Reflection;
 use prisma::optics::catalogue;
 use prisma::optics::conductor::fresnel_conductor;
 use prisma::optics::fresnel::fresnel_dielectric_amplitudes;
 use prisma::optics::{fresnel_dielectric, metals, Ior};
+use prisma::output::file::{check_destination, text_into, Outputs};
 
 /// The phase convention, as the plots' subtitles and the CSV header state it.
 const PHASE_CONVENTION: &str =
@@ -31,14 +32,22 @@ pub struct FresnelArgs {
     /// The interface: a number (1.5), a named glass (N-BK7), `cauchy:A,B,C` (λ in µm),
     /// `sellmeier:B1,B2,B3,C1,C2,C3` (C in µm²), a metal (Ag, Al, Au, Cu) or a complex index
     /// `n+ki` (e.g. 0.05+4.2i).
-    #[arg(long, value_name = "SPEC", required_unless_present = "fixture", conflicts_with = "fixture")]
+    #[arg(
+        long,
+        value_name = "SPEC",
+        required_unless_present = "fixture",
+        conflicts_with = "fixture",
+        allow_negative_numbers = true
+    )]
     ior: Option<String>,
     /// Wavelength in nm at which a dispersive IOR or a metal is evaluated.
-    #[arg(long, value_name = "NM", default_value_t = 587.56)]
+    #[arg(long, value_name = "NM", default_value_t = 587.56, allow_negative_numbers = true)]
     wavelength: f32,
     /// Write the curves as CSV: angle in degrees; Rs, Rp, R from outside and (dielectrics) from
     /// inside; then the phases arg r_s, arg r_p and δ = arg r_p − arg r_s in degrees, in
-    /// (−180, 180] (a negative real coefficient reads 180), from each side.
+    /// (−180, 180] (a negative real coefficient reads 180), from each side; then the
+    /// interface's index, wavelength and name in every row (no comment lines, so pandas and
+    /// spreadsheets read the file as it is). Phase convention: see `--plot`.
     #[arg(short, long, value_name = "curves.csv")]
     output: Option<PathBuf>,
     /// Plot the curves (.svg or .png): the reflectances, and under them the phases arg r_s,
@@ -87,26 +96,27 @@ impl Table {
         Self { angles_deg, outside, inside }
     }
 
-    /// The table as CSV, with a comment line naming the interface and the phase convention.
-    fn csv(&self, interface: &Interface) -> String {
+    /// The table as CSV: one header line, then a row per angle ending in the interface's index,
+    /// the wavelength and its name (metadata in columns, not `#` lines, so that pandas and
+    /// spreadsheets read the file as it is). The phase convention is in `--help` and the plot.
+    fn csv(&self, interface: &Interface, wavelength_nm: f32) -> String {
         let mut csv = String::new();
         let reflectances =
             |row: &Reflection| format!("{},{},{}", row.reflectance_s, row.reflectance_p, row.reflectance);
         let phases = |row: &Reflection| format!("{},{},{}", row.phase_s_deg, row.phase_p_deg, row.delta_deg);
         match interface {
             Interface::Dielectric { n, label } => {
-                let _ = writeln!(csv, "# prisma fresnel: {label}, n = {n} (relative to vacuum)");
-                let _ = writeln!(csv, "# phases in degrees: {PHASE_CONVENTION}");
+                let metadata = format!("{n},{wavelength_nm},{}", csv_field(label));
                 let _ = writeln!(
                     csv,
                     "angle_deg,rs_outside,rp_outside,r_outside,rs_inside,rp_inside,r_inside,\
                      phase_s_outside_deg,phase_p_outside_deg,delta_outside_deg,\
-                     phase_s_inside_deg,phase_p_inside_deg,delta_inside_deg"
+                     phase_s_inside_deg,phase_p_inside_deg,delta_inside_deg,n,wavelength_nm,interface"
                 );
                 for ((angle, out), inn) in self.angles_deg.iter().zip(&self.outside).zip(&self.inside) {
                     let _ = writeln!(
                         csv,
-                        "{angle},{},{},{},{}",
+                        "{angle},{},{},{},{},{metadata}",
                         reflectances(out),
                         reflectances(inn),
                         phases(out),
@@ -115,14 +125,13 @@ impl Table {
                 }
             }
             Interface::Conductor { eta, label } => {
-                let _ = writeln!(csv, "# prisma fresnel: {label}, n + ik = {} + {}i", eta.re, eta.im);
-                let _ = writeln!(csv, "# phases in degrees: {PHASE_CONVENTION}");
+                let metadata = format!("{},{},{wavelength_nm},{}", eta.re, eta.im, csv_field(label));
                 let _ = writeln!(
                     csv,
-                    "angle_deg,rs_outside,rp_outside,r_outside,phase_s_deg,phase_p_deg,delta_deg"
+                    "angle_deg,rs_outside,rp_outside,r_outside,phase_s_deg,phase_p_deg,delta_deg,n,k,wavelength_nm,interface"
                 );
                 for (angle, row) in self.angles_deg.iter().zip(&self.outside) {
-                    let _ = writeln!(csv, "{angle},{},{}", reflectances(row), phases(row));
+                    let _ = writeln!(csv, "{angle},{},{},{metadata}", reflectances(row), phases(row));
                 }
             }
         }
@@ -132,6 +141,11 @@ impl Table {
 
 /// Runs `prisma fresnel`.
 pub fn run(args: &FresnelArgs) -> Result<(), CliError> {
+    // Every output is checked before any work.
+    let plot_format = args.plot.as_deref().map(check_plot_path).transpose()?;
+    if let Some(path) = &args.output {
+        check_destination(path).map_err(|e| CliError::Input(e.into()))?;
+    }
     if let Some(fixture) = &args.fixture {
         return run_fixture(fixture, args.plot.as_deref());
     }
@@ -141,23 +155,38 @@ pub fn run(args: &FresnelArgs) -> Result<(), CliError> {
     }
     let interface = parse_spec(spec, args.wavelength).map_err(CliError::Input)?;
     let table = Table::new(&interface);
-    let csv = table.csv(&interface);
-    if let Some(path) = &args.output {
-        write_text(path, &csv).map_err(CliError::Failed)?;
-        say!("wrote {}", path.display());
-    } else if args.plot.is_none() {
+    let csv = table.csv(&interface, args.wavelength);
+    if args.output.is_none() && args.plot.is_none() {
         say!("{}", csv.trim_end());
     }
-    if let Some(path) = &args.plot {
+    let mut outputs = Outputs::new();
+    if let Some(path) = &args.output {
+        outputs
+            .stage(path, |sink| text_into(sink, path, &csv))
+            .map_err(|e| output_error(e, "writing the CSV"))?;
+    }
+    if let (Some(path), Some(format)) = (&args.plot, plot_format) {
         let panels = curve_panels(&interface, &table, args.wavelength);
         // Reflectances on the first row, phases under them.
         let columns = panels.len() / 2;
-        write_chart_grid(path, &panels, columns, (640, 480))
-            .context("writing the plot")
-            .map_err(CliError::Failed)?;
+        outputs
+            .stage(path, |sink| encode_chart_grid(sink, path, format, &panels, columns, (640, 480)))
+            .map_err(|e| output_error(e, "writing the plot"))?;
+    }
+    outputs.commit().map_err(|e| output_error(e, "writing the outputs"))?;
+    for path in args.output.iter().chain(&args.plot) {
         say!("wrote {}", path.display());
     }
     Ok(())
+}
+
+/// `text` as one CSV field: quoted when it holds a comma or a quote.
+fn csv_field(text: &str) -> String {
+    if text.contains([',', '"', '\n']) {
+        format!("\"{}\"", text.replace('"', "\"\""))
+    } else {
+        text.to_owned()
+    }
 }
 
 /// The reflectance panels (outside, and inside for a dielectric), then the phase panels in the
@@ -353,10 +382,6 @@ fn parse_spec(spec: &str, wavelength_nm: f32) -> anyhow::Result<Interface> {
     )
 }
 
-fn write_text(path: &Path, text: &str) -> anyhow::Result<()> {
-    Ok(prisma::output::atomic::write_text(path, text)?)
-}
-
 /// A fixture file: its column names and numeric rows.
 struct Fixture {
     columns: Vec<String>,
@@ -379,21 +404,31 @@ fn read_fixture(path: &Path) -> anyhow::Result<Fixture> {
     Ok(Fixture { columns, rows })
 }
 
-/// The rows of a fixture that share one relative index: Mitsuba's and prisma's (cos θi, R).
+/// The rows of a fixture that share one relative index and one quantity (R, or Rs and Rp of the
+/// polarised fixture): Mitsuba's and prisma's (cos θi, value).
 struct FixtureCurve {
     key: Vec<f64>,
+    quantity: &'static str,
     mitsuba: Vec<(f64, f64)>,
     prisma: Vec<(f64, f64)>,
 }
 
 /// Plots a Mitsuba fixture with prisma's values overlaid and prints the largest difference.
 fn run_fixture(path: &Path, plot: Option<&Path>) -> Result<(), CliError> {
-    fixture_overlay(path, plot).map(|_| ())
+    let mut outputs = Outputs::new();
+    fixture_overlay(path, plot, &mut outputs)?;
+    outputs.commit().map_err(|e| output_error(e, "writing the plot"))?;
+    if let Some(plot) = plot {
+        say!("wrote {}", plot.display());
+    }
+    Ok(())
 }
 
-/// Compares a Mitsuba fixture with prisma, prints the largest difference, plots the overlay when
-/// `plot` is given, and returns the largest difference.
-pub fn fixture_overlay(path: &Path, plot: Option<&Path>) -> Result<f64, CliError> {
+/// Compares a Mitsuba fixture with prisma, prints the largest difference, stages the overlay
+/// plot in `outputs` when `plot` is given, and returns the largest difference. The polarised
+/// fixture is drawn as Rs = |a_s|² and Rp = |a_p|², the others as the unpolarised R.
+pub fn fixture_overlay(path: &Path, plot: Option<&Path>, outputs: &mut Outputs) -> Result<f64, CliError> {
+    let format = plot.map(check_plot_path).transpose()?;
     let fixture = read_fixture(path).map_err(CliError::Input)?;
     let col = |name: &str| fixture.columns.iter().position(|c| c == name);
     let (cos_col, key_cols, value_col): (usize, Vec<usize>, usize) =
@@ -410,31 +445,41 @@ pub fn fixture_overlay(path: &Path, plot: Option<&Path>) -> Result<f64, CliError
             }
         };
     let polarized = value_col == usize::MAX;
-    let a_s = col("a_s_re");
+    let (a_s, a_p) = (col("a_s_re"), col("a_p_re"));
     let mut groups: Vec<FixtureCurve> = Vec::new();
     let mut largest = 0f64;
     for row in &fixture.rows {
         let key: Vec<f64> = key_cols.iter().map(|&k| row[k]).collect();
         let cos = row[cos_col] as f32;
-        let (mitsuba, prisma) = if polarized {
-            let s = a_s.unwrap_or(0);
-            let reference =
-                0.5 * (row[s].powi(2) + row[s + 1].powi(2) + row[s + 2].powi(2) + row[s + 3].powi(2));
-            (reference, f64::from(fresnel_dielectric_amplitudes(cos, key[0] as f32).reflectance))
+        let values: Vec<(&'static str, f64, f64)> = if polarized {
+            let squared =
+                |column: Option<usize>| column.map_or(f64::NAN, |c| row[c].powi(2) + row[c + 1].powi(2));
+            let amplitudes = fresnel_dielectric_amplitudes(cos, key[0] as f32);
+            vec![
+                ("Rs", squared(a_s), f64::from(amplitudes.reflectance_s)),
+                ("Rp", squared(a_p), f64::from(amplitudes.reflectance_p)),
+            ]
         } else if key.len() == 1 {
-            (row[value_col], f64::from(fresnel_dielectric(cos, key[0] as f32).reflectance))
+            vec![("R", row[value_col], f64::from(fresnel_dielectric(cos, key[0] as f32).reflectance))]
         } else {
             let eta = Complex32::new(key[0] as f32, key[1] as f32);
-            (row[value_col], f64::from(fresnel_conductor(cos, eta).reflectance))
+            vec![("R", row[value_col], f64::from(fresnel_conductor(cos, eta).reflectance))]
         };
-        largest = largest.max((mitsuba - prisma).abs());
         let x = f64::from(cos);
-        match groups.iter_mut().find(|g| g.key == key) {
-            Some(group) => {
-                group.mitsuba.push((x, mitsuba));
-                group.prisma.push((x, prisma));
+        for (quantity, mitsuba, prisma) in values {
+            largest = largest.max((mitsuba - prisma).abs());
+            match groups.iter_mut().find(|g| g.key == key && g.quantity == quantity) {
+                Some(group) => {
+                    group.mitsuba.push((x, mitsuba));
+                    group.prisma.push((x, prisma));
+                }
+                None => groups.push(FixtureCurve {
+                    key: key.clone(),
+                    quantity,
+                    mitsuba: vec![(x, mitsuba)],
+                    prisma: vec![(x, prisma)],
+                }),
             }
-            None => groups.push(FixtureCurve { key, mitsuba: vec![(x, mitsuba)], prisma: vec![(x, prisma)] }),
         }
     }
     say!(
@@ -443,14 +488,14 @@ pub fn fixture_overlay(path: &Path, plot: Option<&Path>) -> Result<f64, CliError
         fixture.rows.len(),
         groups.len()
     );
-    if let Some(plot) = plot {
+    if let (Some(plot), Some(format)) = (plot, format) {
         let mut series = Vec::new();
-        for (index, FixtureCurve { key, mitsuba, prisma }) in groups.into_iter().enumerate() {
+        for (index, FixtureCurve { key, quantity, mitsuba, prisma }) in groups.into_iter().enumerate() {
             let color = PALETTE[index % PALETTE.len()];
             let name = if key.len() == 1 {
-                format!("η = {:.4}", key[0])
+                format!("{quantity}, η = {:.4}", key[0])
             } else {
-                format!("η = {}+{}i", key[0], key[1])
+                format!("{quantity}, η = {}+{}i", key[0], key[1])
             };
             series.push(Series {
                 label: format!("Mitsuba {name}"),
@@ -462,7 +507,7 @@ pub fn fixture_overlay(path: &Path, plot: Option<&Path>) -> Result<f64, CliError
                 label: format!("prisma {name}"),
                 points: prisma,
                 color,
-                style: Style::Line,
+                style: if quantity == "Rp" { Style::Dashed } else { Style::Line },
             });
         }
         let x_min = if key_cols.len() == 1 { -1.0 } else { 0.0 };
@@ -474,15 +519,20 @@ pub fn fixture_overlay(path: &Path, plot: Option<&Path>) -> Result<f64, CliError
                 path.file_name().map_or_else(String::new, |n| n.to_string_lossy().into_owned())
             ),
             x_label: "cos θi (negative: light from the interior)".into(),
-            y_label: "unpolarised reflectance".into(),
+            y_label: if polarized {
+                "reflectance Rs = |a_s|², Rp = |a_p|² (s and p polarised)".into()
+            } else {
+                "unpolarised reflectance".into()
+            },
             x_range: (x_min, 1.0),
             y_range: (0.0, 1.0),
             series,
             markers: Vec::new(),
             legend: SeriesLabelPosition::UpperLeft,
         };
-        write_chart(plot, &[panel], (1000, 640)).context("writing the plot").map_err(CliError::Failed)?;
-        say!("wrote {}", plot.display());
+        outputs
+            .stage(plot, |sink| encode_chart(sink, plot, format, &[panel], (1000, 640)))
+            .map_err(|e| output_error(e, "writing the plot"))?;
     }
     Ok(largest)
 }

@@ -4,15 +4,16 @@
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
-use anyhow::{anyhow, Context};
+use anyhow::anyhow;
 use clap::Args;
 
 use plotters::chart::SeriesLabelPosition;
 
-use super::plot::{write_chart, Marker, Panel, Series, Style, PALETTE};
-use super::{say, CliError};
+use super::plot::{check_plot_path, encode_chart, Marker, Panel, Series, Style, PALETTE};
+use super::{output_error, say, CliError};
 use prisma::optics::catalogue::{self, GlassEntry};
 use prisma::optics::dispersion::{LAMBDA_C_NM, LAMBDA_D_NM, LAMBDA_F_NM};
+use prisma::output::file::write_file;
 use prisma::spectrum::{LAMBDA_MAX_NM, LAMBDA_MIN_NM};
 
 /// Arguments of `prisma glass`.
@@ -24,7 +25,7 @@ pub struct GlassArgs {
     #[arg(long, value_name = "n.svg|png")]
     plot: Option<PathBuf>,
     /// Wavelength step of the printed table, in nm.
-    #[arg(long, value_name = "NM", default_value_t = 10.0)]
+    #[arg(long, value_name = "NM", default_value_t = 10.0, allow_negative_numbers = true)]
     step_nm: f32,
 }
 
@@ -33,6 +34,8 @@ pub fn run(args: &GlassArgs) -> Result<(), CliError> {
     if !(args.step_nm.is_finite() && (0.1..=100.0).contains(&args.step_nm)) {
         return Err(CliError::Input(anyhow!("--step-nm must be in [0.1, 100], got {}", args.step_nm)));
     }
+    // Checked before the table is printed: a bad plot name fails at once.
+    let plot_format = args.plot.as_deref().map(check_plot_path).transpose()?;
     let selected: Vec<&GlassEntry> = args
         .names
         .iter()
@@ -77,7 +80,7 @@ pub fn run(args: &GlassArgs) -> Result<(), CliError> {
         say!("{}", table.trim_end());
     }
 
-    if let Some(path) = &args.plot {
+    if let (Some(path), Some(format)) = (&args.plot, plot_format) {
         let glasses: Vec<&GlassEntry> =
             if selected.is_empty() { catalogue::glasses().iter().collect() } else { selected };
         let mut y_range = (f64::INFINITY, f64::NEG_INFINITY);
@@ -120,7 +123,8 @@ pub fn run(args: &GlassArgs) -> Result<(), CliError> {
             // Indices of real glasses leave the band between ~1.9 and ~2.3 empty.
             legend: SeriesLabelPosition::MiddleRight,
         };
-        write_chart(path, &[panel], (900, 600)).context("writing the plot").map_err(CliError::Failed)?;
+        write_file(path, |sink| encode_chart(sink, path, format, &[panel], (900, 600)))
+            .map_err(|e| output_error(e, "writing the plot"))?;
         say!("wrote {}", path.display());
     }
     Ok(())

@@ -10,8 +10,6 @@ mod polviz;
 mod render;
 mod validate;
 
-use std::path::PathBuf;
-
 use clap::{Parser, Subcommand};
 
 /// prisma: a spectral Whitted ray tracer for glass and dispersion.
@@ -74,7 +72,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Some(Command::Polviz(args)) => polviz::run(&args),
         Some(Command::Validate(args)) => validate::run(&args),
         Some(Command::BenchRays(args)) => bench::run(&args),
-        None => render::run(&render::RenderArgs::default_scene(default_scene())),
+        None => render::run(&render::RenderArgs::default_scene()),
     }
 }
 
@@ -88,7 +86,11 @@ macro_rules! say {
 }
 pub(crate) use say;
 
-/// The bundled dispersive showcase, found beside the crate's manifest.
-fn default_scene() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes").join("showcase.toml")
+/// An output error as a command failure: a destination that cannot be used is bad input (exit
+/// code 2, found before any work); a failed write is a failure while running (exit code 1).
+pub fn output_error(error: prisma::output::OutputError, context: &str) -> CliError {
+    match error {
+        prisma::output::OutputError::Destination { .. } => CliError::Input(error.into()),
+        error => CliError::Failed(anyhow::Error::from(error).context(context.to_owned())),
+    }
 }

@@ -7,14 +7,16 @@ use std::ops::Range;
 use std::path::Path;
 use std::sync::Once;
 
-use anyhow::{anyhow, bail};
+use anyhow::anyhow;
 use plotters::coord::ranged1d::{KeyPointHint, NoDefaultFormatting, Ranged, ValueFormatter};
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::FontStyle;
 
-use prisma::output::{atomic::write_atomically, OutputError};
+use super::CliError;
+use prisma::output::file::{check_destination, text_into, Destination, Sink};
+use prisma::output::OutputError;
 
 /// How a series is drawn.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -101,58 +103,97 @@ pub fn register_font() -> anyhow::Result<()> {
     result
 }
 
-/// Draws `panels` side by side into `path` (`.svg` or `.png`), each panel `panel_size` pixels.
-pub fn write_chart(path: &Path, panels: &[Panel], panel_size: (u32, u32)) -> anyhow::Result<()> {
-    write_chart_grid(path, panels, panels.len(), panel_size)
+/// The file format of a plot, from its name.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PlotFormat {
+    /// Scalable vector graphics.
+    Svg,
+    /// A PNG bitmap.
+    Png,
 }
 
-/// Draws `panels` row by row, `columns` to a row, into `path` (`.svg` or `.png`), each panel
-/// `panel_size` pixels.
-pub fn write_chart_grid(
+/// Checks a plot path before any work: a usable destination named `.svg` or `.png` (bad
+/// input, exit code 2, otherwise). A special file (/dev/null) gets SVG.
+pub fn check_plot_path(path: &Path) -> Result<PlotFormat, CliError> {
+    let destination = check_destination(path).map_err(|e| CliError::Input(e.into()))?;
+    let extension = path.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
+    match (extension.as_str(), destination) {
+        ("svg", _) | (_, Destination::Special(_)) => Ok(PlotFormat::Svg),
+        ("png", _) => Ok(PlotFormat::Png),
+        _ => Err(CliError::Input(anyhow!("{}: the plot file must end in .svg or .png", path.display()))),
+    }
+}
+
+/// Draws `panels` side by side, each `panel_size` pixels, as `format` into `sink` (errors name
+/// `path`).
+pub fn encode_chart(
+    sink: &mut Sink,
     path: &Path,
+    format: PlotFormat,
+    panels: &[Panel],
+    panel_size: (u32, u32),
+) -> Result<(), OutputError> {
+    encode_chart_grid(sink, path, format, panels, panels.len(), panel_size)
+}
+
+/// Draws `panels` row by row, `columns` to a row, each `panel_size` pixels, as `format` into
+/// `sink` (errors name `path`). The drawing is made in memory first, then written.
+pub fn encode_chart_grid(
+    sink: &mut Sink,
+    path: &Path,
+    format: PlotFormat,
     panels: &[Panel],
     columns: usize,
     panel_size: (u32, u32),
-) -> anyhow::Result<()> {
-    register_font()?;
+) -> Result<(), OutputError> {
+    let codec = |message: String| OutputError::Codec { path: path.display().to_string(), message };
+    register_font().map_err(|e| codec(e.to_string()))?;
     let columns = columns.clamp(1, panels.len().max(1));
     let rows = panels.len().div_ceil(columns).max(1);
     let size = (panel_size.0 * columns as u32, panel_size.1 * rows as u32);
-    let extension = path.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
-    let codec = |message: String| OutputError::Codec { path: path.display().to_string(), message };
-    match extension.as_str() {
-        "svg" => write_atomically(path, |tmp| {
-            let root = SVGBackend::new(tmp, size).into_drawing_area();
-            draw(&root, panels, columns)
-                .and_then(|()| root.present().map_err(|e| e.to_string()))
-                .map_err(codec)
-        })?,
-        "png" => write_atomically(path, |tmp| {
-            let mut pixels = vec![0u8; 3 * size.0 as usize * size.1 as usize];
+    match format {
+        PlotFormat::Svg => {
+            let mut svg = String::new();
+            {
+                let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
+                draw(&root, panels, columns)
+                    .and_then(|()| root.present().map_err(|e| e.to_string()))
+                    .map_err(codec)?;
+            }
+            text_into(sink, path, &svg)
+        }
+        PlotFormat::Png => {
+            let mut pixels = vec![0u8; size.0 as usize * size.1 as usize * 3];
             {
                 let root = BitMapBackend::with_buffer(&mut pixels, size).into_drawing_area();
                 draw(&root, panels, columns)
                     .and_then(|()| root.present().map_err(|e| e.to_string()))
                     .map_err(codec)?;
             }
-            write_png(tmp, &pixels, size, path)
-        })?,
-        _ => bail!("{}: the plot file must end in .svg or .png", path.display()),
+            encode_png_compact(sink, path, &pixels, size)
+        }
     }
-    Ok(())
 }
 
-/// Encodes 8-bit RGB `pixels` of `size` as a PNG file at `tmp` (errors name `path`),
-/// compressed hard: figures are written once and read many times, and their flat areas
-/// compress well (a 2 × 2 Fresnel plot: 79 KB instead of 374 KB with the fast setting).
-pub fn write_png(tmp: &Path, pixels: &[u8], size: (u32, u32), path: &Path) -> Result<(), OutputError> {
+/// Encodes 8-bit RGB `pixels` of `size` as a PNG into `sink` (errors name `path`), compressed
+/// hard: figures are written once and read many times, and their flat areas compress well (a
+/// 2 × 2 Fresnel plot: 79 KB instead of 374 KB with the fast setting).
+pub fn encode_png_compact(
+    sink: &mut Sink,
+    path: &Path,
+    pixels: &[u8],
+    size: (u32, u32),
+) -> Result<(), OutputError> {
     use image::codecs::png::{CompressionType, FilterType, PngEncoder};
     use image::ImageEncoder as _;
-    let file = std::fs::File::create(tmp)
-        .map_err(|source| OutputError::Io { path: path.display().to_string(), source })?;
-    PngEncoder::new_with_quality(std::io::BufWriter::new(file), CompressionType::Best, FilterType::Adaptive)
+    PngEncoder::new_with_quality(sink, CompressionType::Best, FilterType::Adaptive)
         .write_image(pixels, size.0, size.1, image::ExtendedColorType::Rgb8)
-        .map_err(|e| OutputError::Codec { path: path.display().to_string(), message: e.to_string() })
+        .map_err(|e| match e {
+            image::ImageError::IoError(source) => {
+                OutputError::Io { path: path.display().to_string(), source }
+            }
+            e => OutputError::Codec { path: path.display().to_string(), message: e.to_string() },
+        })
 }
 
 fn draw<DB: DrawingBackend>(

@@ -25,11 +25,11 @@ use std::path::{Path, PathBuf};
 use anyhow::anyhow;
 use clap::{Args, ValueEnum};
 
-use super::plot::write_png;
-use super::{say, CliError};
+use super::plot::encode_png_compact;
+use super::{output_error, say, CliError};
 use figure::{Options, StokesImage};
-use prisma::output::atomic::write_atomically;
 use prisma::output::exr::{read_exr, ExrImage};
+use prisma::output::file::{check_destination, write_file};
 use prisma::output::OutputError;
 
 /// Arguments of `prisma polviz`.
@@ -101,13 +101,16 @@ pub fn run(args: &PolvizArgs) -> Result<(), CliError> {
     if !is_png {
         return Err(CliError::Input(anyhow!("{}: the output must be a .png file", output.display())));
     }
+    check_destination(&output).map_err(|e| CliError::Input(e.into()))?;
     let exr = read_input(&args.input).map_err(CliError::Input)?;
     let image = stokes_image(&exr, &args.input, args.channel, args.wavelength).map_err(CliError::Input)?;
     let options =
         Options { min_dolp: args.min_dolp, columns: args.columns as usize, exposure_ev: args.exposure };
     let canvas = figure::draw(&image, &options).map_err(CliError::Input)?;
-    write_atomically(&output, |tmp| write_png(tmp, &canvas.pixels, (canvas.width, canvas.height), &output))
-        .map_err(|e| CliError::Input(anyhow!("cannot write the figure: {e}")))?;
+    write_file(&output, |sink| {
+        encode_png_compact(sink, &output, &canvas.pixels, (canvas.width, canvas.height))
+    })
+    .map_err(|e| output_error(e, "writing the figure"))?;
     say!("{}", summary(&image, args.min_dolp));
     say!("wrote {}", output.display());
     Ok(())
@@ -128,6 +131,7 @@ fn read_input(path: &Path) -> anyhow::Result<ExrImage> {
             anyhow!("{}: not a readable OpenEXR image ({message})", path.display())
         }
         OutputError::Io { source, .. } => anyhow!("{}: {source}", path.display()),
+        e @ OutputError::Destination { .. } => e.into(),
     })
 }
 

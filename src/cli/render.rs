@@ -6,10 +6,15 @@ use std::path::{Path, PathBuf};
 use anyhow::{anyhow, Context};
 use clap::Args;
 
+use indicatif::{ProgressBar, ProgressStyle};
+
 use super::{say, CliError};
 use prisma::film::SpectralBands;
-use prisma::output::{atomic::write_text, exr::write_exr, png::write_png};
-use prisma::render::{render, Job};
+use prisma::output::exr::encode_exr;
+use prisma::output::file::{check_destination, same_file, text_into, Destination, Outputs};
+use prisma::output::png::encode_png;
+use prisma::output::OutputError;
+use prisma::render::{render, Job, RenderError};
 use prisma::scene::build::{MAX_DEPTH, MAX_RESOLUTION, MAX_SPP};
 use prisma::spectrum::{LAMBDA_MAX_NM, LAMBDA_MIN_NM};
 
@@ -46,7 +51,7 @@ pub struct RenderArgs {
     #[arg(long, value_name = "EV", default_value_t = 0.0, allow_negative_numbers = true)]
     exposure: f32,
     /// Render a single wavelength (nm, 360–830): every channel holds the spectral radiance.
-    #[arg(long, value_name = "NM")]
+    #[arg(long, value_name = "NM", allow_negative_numbers = true)]
     wavelength: Option<f32>,
     /// Do not print the progress bar and the closing summary.
     #[arg(short, long)]
@@ -67,13 +72,18 @@ pub struct RenderArgs {
     /// Wavelength range of the spectral bands, in nm [default: 360-830].
     #[arg(long, value_name = "MIN-MAX", requires = "spectral_bands")]
     spectral_range: Option<String>,
+    /// Render the embedded default scene instead of reading `scene`.
+    #[arg(skip)]
+    builtin: bool,
 }
 
 impl RenderArgs {
-    /// Arguments that render `scene` with its own settings.
-    pub fn default_scene(scene: PathBuf) -> Self {
+    /// Arguments that render the embedded default scene (scenes/showcase.toml) with its own
+    /// settings.
+    pub fn default_scene() -> Self {
         Self {
-            scene,
+            scene: PathBuf::from(DEFAULT_SCENE_NAME),
+            builtin: true,
             output: None,
             preview: None,
             spp: None,
@@ -94,6 +104,11 @@ impl RenderArgs {
     }
 }
 
+/// The bundled default scene, embedded so that an installed or moved binary still has it.
+const DEFAULT_SCENE: &str = include_str!("../../scenes/showcase.toml");
+/// The name the default scene is known by in messages and output names.
+const DEFAULT_SCENE_NAME: &str = "showcase.toml";
+
 /// Runs `prisma render`.
 pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     if let Some(nm) = args.wavelength {
@@ -108,7 +123,12 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     }
     let bands =
         spectral_bands(args.spectral_bands, args.spectral_range.as_deref()).map_err(CliError::Input)?;
-    let mut scene = prisma::scene::load(&args.scene).map_err(|e| CliError::Input(e.into()))?;
+    let mut scene = if args.builtin {
+        prisma::scene::parse(DEFAULT_SCENE, Path::new(DEFAULT_SCENE_NAME))
+    } else {
+        prisma::scene::load(&args.scene)
+    }
+    .map_err(|e| CliError::Input(e.into()))?;
 
     let (width, height) = resolution(scene.camera.width(), scene.camera.height(), args.width, args.height)
         .map_err(CliError::Input)?;
@@ -126,12 +146,15 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         settings.polarized = true;
     }
 
+    settings.check_ray_tree_bound().map_err(|message| {
+        CliError::Input(anyhow!("{}: with --max-depth: {message}", args.scene.display()))
+    })?;
     let stem = match args.wavelength {
         Some(nm) => format!("{}_{nm}nm", scene.name),
         None => scene.name.clone(),
     };
     let exr_path = args.output.clone().unwrap_or_else(|| Path::new("out").join(format!("{stem}.exr")));
-    let png_path = args.preview.clone().unwrap_or_else(|| exr_path.with_extension("png"));
+    let destinations = Destinations::check(&exr_path, args.preview.as_deref(), args.stats.as_deref())?;
 
     let show = !args.quiet && std::io::stderr().is_terminal();
     let job = Job {
@@ -143,34 +166,48 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         // A monochromatic render is written as its one wavelength already.
         bands: bands.filter(|_| args.wavelength.is_none()),
     };
-    let (film, stats) = render(&scene, &job).map_err(|e| CliError::Failed(e.into()))?;
-
-    let rgb = film.linear_srgb();
-    write_exr(&exr_path, &film).with_context(|| "writing the EXR image").map_err(CliError::Failed)?;
-    write_png(&png_path, width, height, &rgb, args.exposure)
-        .with_context(|| "writing the PNG preview")
-        .map_err(CliError::Failed)?;
+    let (film, stats) = render(&scene, &job).map_err(|e| match e {
+        RenderError::ThreadPool { .. } => CliError::Failed(e.into()),
+        // Too large for this machine, or magnitudes that overflow: the input must change.
+        RenderError::TooLarge(_) | RenderError::NonFinite(_) => {
+            CliError::Input(anyhow::Error::from(e).context(args.scene.display().to_string()))
+        }
+    })?;
 
     let seconds = stats.elapsed.as_secs_f64();
-    if let Some(path) = &args.stats {
-        let figures = serde_json::json!({
-            "scene": args.scene.display().to_string(),
-            "width": width,
-            "height": height,
-            "spp": settings.spp,
-            "wavelengths_per_sample": settings.wavelengths,
-            "polarized": settings.polarized,
-            "threads": stats.threads,
-            "render_seconds": seconds,
-            "samples": stats.samples,
-            "rays": stats.rays,
-            "samples_per_second": stats.samples as f64 / seconds.max(1e-9),
-            "rays_per_second": stats.rays as f64 / seconds.max(1e-9),
-        });
-        write_text(path, &format!("{figures:#}\n"))
-            .with_context(|| "writing the render statistics")
-            .map_err(CliError::Failed)?;
+    let figures = serde_json::json!({
+        "scene": args.scene.display().to_string(),
+        "width": width,
+        "height": height,
+        "spp": settings.spp,
+        "wavelengths_per_sample": settings.wavelengths,
+        "polarized": settings.polarized,
+        "threads": stats.threads,
+        "render_seconds": seconds,
+        "samples": stats.samples,
+        "rays": stats.rays,
+        "samples_per_second": stats.samples as f64 / seconds.max(1e-9),
+        "rays_per_second": stats.rays as f64 / seconds.max(1e-9),
+    });
+    let writing = show.then(|| writing_spinner(&destinations));
+    let rgb = film.linear_srgb();
+    let mut outputs = Outputs::new();
+    let written = outputs
+        .stage(&destinations.exr, |sink| encode_exr(sink, &destinations.exr, &film))
+        .and_then(|()| match &destinations.preview {
+            Some(png) => outputs.stage(png, |sink| encode_png(sink, png, width, height, &rgb, args.exposure)),
+            None => Ok(()),
+        })
+        .and_then(|()| match &destinations.stats {
+            Some(path) => outputs.stage(path, |sink| text_into(sink, path, &format!("{figures:#}\n"))),
+            None => Ok(()),
+        })
+        .and_then(|()| outputs.commit());
+    if let Some(spinner) = writing {
+        spinner.finish_and_clear();
     }
+    written.context("writing the outputs (none was written)").map_err(CliError::Failed)?;
+
     if !args.quiet {
         say!(
             "rendered {}: {width}×{height}, {} spp, {}, {} in {seconds:.2} s on {} threads ({:.1} M rays, {:.2} M rays/s)",
@@ -185,7 +222,9 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             stats.rays as f64 * 1e-6,
             stats.rays as f64 * 1e-6 / seconds.max(1e-9),
         );
-        say!("wrote {} and {}", exr_path.display(), png_path.display());
+        let mut wrote = vec![destinations.exr.display().to_string()];
+        wrote.extend(destinations.preview.iter().chain(&destinations.stats).map(|p| p.display().to_string()));
+        say!("wrote {}", wrote.join(", "));
     }
     Ok(())
 }
@@ -213,6 +252,84 @@ fn spectral_bands(count: Option<u32>, range: Option<&str>) -> anyhow::Result<Opt
     Ok(Some(SpectralBands { count: count as usize, min_nm, max_nm }))
 }
 
+/// The files a render writes, checked before it starts.
+struct Destinations {
+    exr: PathBuf,
+    preview: Option<PathBuf>,
+    stats: Option<PathBuf>,
+}
+
+impl Destinations {
+    /// Checks the outputs before any work: each can be written (not a directory, a block device,
+    /// an unwritable place), the EXR is named `.exr` and the preview `.png` (unless they are
+    /// special files such as /dev/null), and no two are the same file. Without `--preview` the
+    /// preview goes beside the EXR with a `.png` extension, or nowhere when the EXR goes to a
+    /// special file.
+    fn check(exr: &Path, preview: Option<&Path>, stats: Option<&Path>) -> Result<Self, CliError> {
+        let input = |e: OutputError| CliError::Input(e.into());
+        let exr_destination = check_destination(exr).map_err(input)?;
+        require_extension(&exr_destination, exr, "exr", "-o", "--preview names the PNG preview")?;
+        let preview = match (preview, &exr_destination) {
+            (Some(path), _) => Some(path.to_owned()),
+            (None, Destination::Replace(_)) => Some(exr.with_extension("png")),
+            (None, Destination::Special(_)) => None,
+        };
+        if let Some(path) = &preview {
+            let destination = check_destination(path).map_err(input)?;
+            require_extension(&destination, path, "png", "--preview", "-o names the EXR image")?;
+        }
+        if let Some(path) = stats {
+            check_destination(path).map_err(input)?;
+        }
+        let named = [("-o", Some(exr)), ("--preview", preview.as_deref()), ("--stats", stats)];
+        for (i, (flag_a, a)) in named.iter().enumerate() {
+            for (flag_b, b) in &named[i + 1..] {
+                if let (Some(a), Some(b)) = (a, b) {
+                    let special = matches!(check_destination(a), Ok(Destination::Special(_)));
+                    if same_file(a, b) && !special {
+                        return Err(CliError::Input(anyhow!(
+                            "{flag_a} and {flag_b} name the same file {}: each output needs its own",
+                            a.display()
+                        )));
+                    }
+                }
+            }
+        }
+        Ok(Self { exr: exr.to_owned(), preview, stats: stats.map(Path::to_owned) })
+    }
+}
+
+/// A regular file written as `format` must be named so.
+fn require_extension(
+    destination: &Destination,
+    path: &Path,
+    format: &str,
+    flag: &str,
+    hint: &str,
+) -> Result<(), CliError> {
+    let named = path.extension().is_some_and(|e| e.eq_ignore_ascii_case(format));
+    if matches!(destination, Destination::Replace(_)) && !named {
+        return Err(CliError::Input(anyhow!(
+            "{flag} {}: the file is written as {}, so its name must end in .{format} ({hint})",
+            path.display(),
+            format.to_uppercase()
+        )));
+    }
+    Ok(())
+}
+
+/// A spinner on standard error while the outputs are encoded and written (an 8K EXR takes
+/// seconds).
+fn writing_spinner(destinations: &Destinations) -> ProgressBar {
+    let spinner = ProgressBar::new_spinner();
+    if let Ok(style) = ProgressStyle::with_template("{spinner} [{elapsed_precise}] {msg}") {
+        spinner.set_style(style);
+    }
+    spinner.set_message(format!("writing {}", destinations.exr.display()));
+    spinner.enable_steady_tick(std::time::Duration::from_millis(120));
+    spinner
+}
+
 /// The output resolution: the scene's, or the flags', keeping the aspect ratio when only one is given.
 fn resolution(
     scene_w: u32,
@@ -231,4 +348,19 @@ fn resolution(
         return Err(anyhow!("resolution {w}×{h} exceeds {MAX_RESOLUTION} pixels per side"));
     }
     Ok((w, h))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `prisma` without arguments renders the showcase embedded in the binary, so that an
+    /// installed or moved binary still has it (it used to be read from the build directory).
+    #[test]
+    fn the_default_scene_is_embedded_and_loads() {
+        let scene =
+            prisma::scene::parse(DEFAULT_SCENE, Path::new(DEFAULT_SCENE_NAME)).expect("the showcase loads");
+        assert_eq!(scene.name, "showcase");
+        assert!(RenderArgs::default_scene().builtin);
+    }
 }

@@ -5,13 +5,14 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use anyhow::{anyhow, Context};
+use anyhow::anyhow;
 use clap::{Args, ValueEnum};
 use glam::Vec3;
 
-use super::{say, CliError};
+use super::{output_error, say, CliError};
 use prisma::integrator::Fault;
-use prisma::output::png::write_png;
+use prisma::output::file::{check_destination, text_into, Outputs};
+use prisma::output::png::encode_png;
 use prisma::validate::metrics::{Planes, Z_OUTLIER};
 use prisma::validate::mitsuba::{run_case, CaseImages, RunOptions};
 use prisma::validate::{analytic, cases, CaseResult};
@@ -40,8 +41,9 @@ pub struct ValidateArgs {
     /// Write an HTML and Markdown report with images into this directory.
     #[arg(long, value_name = "DIR")]
     report: Option<PathBuf>,
-    /// The validation directory (cases.toml, scenes/, references/).
-    #[arg(long, value_name = "DIR", default_value = concat!(env!("CARGO_MANIFEST_DIR"), "/validation"))]
+    /// The validation directory (cases.toml, scenes/, references/) of a prisma source tree:
+    /// `validation` in the working directory by default, so run from the project's root.
+    #[arg(long, value_name = "DIR", default_value = "validation")]
     dir: PathBuf,
     /// Compare at the references' resolution divided by this factor.
     #[arg(long, value_name = "K", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=16))]
@@ -67,6 +69,16 @@ pub fn run(args: &ValidateArgs) -> Result<(), CliError> {
         FaultArg::Unpolarized => Fault::Unpolarized,
     });
     let threads = args.threads.unwrap_or(0) as usize;
+    if !args.dir.join("cases.toml").is_file() {
+        return Err(CliError::Input(anyhow!(
+            "{}: no validation directory here (cases.toml not found); run `prisma validate` from the \
+             root of a prisma source tree, or give --dir PATH/validation",
+            args.dir.display()
+        )));
+    }
+    if let Some(dir) = &args.report {
+        check_destination(&dir.join("index.html")).map_err(|e| CliError::Input(e.into()))?;
+    }
     let mitsuba_cases = cases::load(&args.dir).map_err(|e| CliError::Input(e.into()))?;
     let known: Vec<&str> =
         analytic::CASES.iter().copied().chain(mitsuba_cases.iter().map(|c| c.name.as_str())).collect();
@@ -94,9 +106,7 @@ pub fn run(args: &ValidateArgs) -> Result<(), CliError> {
     say!("{} of {} cases passed", results.len() - failed.len(), results.len());
 
     if let Some(dir) = &args.report {
-        write_report(dir, &args.dir, &results, fault)
-            .context("writing the report")
-            .map_err(CliError::Failed)?;
+        write_report(dir, &args.dir, &results, fault)?;
         say!("wrote {}", dir.join("index.html").display());
     }
     if failed.is_empty() {
@@ -151,13 +161,25 @@ fn z_colour(z: f64) -> Vec3 {
     }
 }
 
+/// `text` as a Markdown table cell: `|` escaped, line breaks as spaces.
+fn md_cell(text: &str) -> String {
+    text.replace('|', "\\|").replace('\n', " ")
+}
+
+/// `text` as HTML text.
+fn html_text(text: &str) -> String {
+    text.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
+}
+
+/// Writes the report's files into `dir`, all or none (staged, then committed together).
 fn write_report(
     dir: &Path,
     validation_dir: &Path,
     results: &[(CaseResult, Option<CaseImages>)],
     fault: Option<Fault>,
-) -> anyhow::Result<()> {
-    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+) -> Result<(), CliError> {
+    let failed = |e| output_error(e, "writing the report");
+    let mut outputs = Outputs::new();
     let mut md = String::from("# prisma validation report\n\n");
     let mut html = String::from(
         "<!doctype html><html><head><meta charset=\"utf-8\"><title>prisma validation</title><style>\
@@ -183,13 +205,16 @@ fn write_report(
             let _ = writeln!(
                 md,
                 "| {} | {} | {:.4e} | {:.4e} | {verdict} |",
-                result.name, check.metric, check.value, check.threshold
+                md_cell(&result.name),
+                md_cell(&check.metric),
+                check.value,
+                check.threshold
             );
             let _ = write!(
                 html,
                 "<tr><td>{}</td><td>{}</td><td>{:.4e}</td><td>{:.4e}</td><td class=\"{}\">{verdict}</td></tr>",
-                result.name,
-                check.metric,
+                html_text(&result.name),
+                html_text(&check.metric),
                 check.value,
                 check.threshold,
                 verdict.to_lowercase()
@@ -203,11 +228,14 @@ fn write_report(
     let scale: Vec<Vec3> = (0..scale_width * 16)
         .map(|i| z_colour(((i % scale_width) as f64 / (scale_width - 1) as f64 * 2.0 - 1.0) * Z_OUTLIER))
         .collect();
-    write_png(&dir.join("z_scale.png"), scale_width as u32, 16, &scale, 0.0)?;
+    let z_scale = dir.join("z_scale.png");
+    outputs
+        .stage(&z_scale, |sink| encode_png(sink, &z_scale, scale_width as u32, 16, &scale, 0.0))
+        .map_err(failed)?;
 
     for (result, images) in results {
         let _ = writeln!(md, "\n## {}\n\n{}\n", result.name, result.why);
-        let _ = write!(html, "<h2>{}</h2><p>{}</p>", result.name, result.why);
+        let _ = write!(html, "<h2>{}</h2><p>{}</p>", html_text(&result.name), html_text(&result.why));
         let Some(images) = images else { continue };
         let (w, h) = (images.mitsuba.width as u32, images.mitsuba.height as u32);
         let scale = exposure_scale(&images.mitsuba);
@@ -224,7 +252,8 @@ fn write_report(
         let _ = writeln!(md, "mean prisma / Mitsuba per channel: {}\n", ratios.join(", "));
         let _ = write!(html, "<p>mean prisma / Mitsuba per channel: {}</p>", ratios.join(", "));
         for (file, pixels, caption) in &files {
-            write_png(&dir.join(file), w, h, pixels, 0.0)?;
+            let path = dir.join(file);
+            outputs.stage(&path, |sink| encode_png(sink, &path, w, h, pixels, 0.0)).map_err(failed)?;
             let _ = writeln!(md, "![{caption}]({file}) ");
             let _ = write!(
                 html,
@@ -244,13 +273,14 @@ fn write_report(
             continue;
         }
         let png = format!("{name}.png");
-        let largest =
-            super::fresnel::fixture_overlay(&csv, Some(&dir.join(&png))).map_err(|e| anyhow!(e.message()))?;
+        let largest = super::fresnel::fixture_overlay(&csv, Some(&dir.join(&png)), &mut outputs)?;
         let _ = writeln!(md, "![{name}]({png})\n\nlargest |prisma − Mitsuba| = {largest:.2e}\n");
         let _ = write!(html, "<figure><img src=\"{png}\" width=\"900\"><figcaption>{name}: largest |prisma − Mitsuba| = {largest:.2e}</figcaption></figure>");
     }
     html.push_str("</body></html>");
-    let write = |file: &str, text: &str| prisma::output::atomic::write_text(&dir.join(file), text);
-    write("report.md", &md)?;
-    Ok(write("index.html", &html)?)
+    for (file, text) in [("report.md", &md), ("index.html", &html)] {
+        let path = dir.join(file);
+        outputs.stage(&path, |sink| text_into(sink, &path, text)).map_err(failed)?;
+    }
+    outputs.commit().map_err(failed)
 }

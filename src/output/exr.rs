@@ -25,7 +25,7 @@ use ::exr::prelude::{
 };
 use glam::Vec3;
 
-use super::atomic::write_atomically;
+use super::file::{write_file, Sink};
 use super::OutputError;
 use crate::film::Film;
 
@@ -36,6 +36,12 @@ pub fn spectral_channel_name(k: usize, lambda_nm: f32) -> String {
 
 /// Writes `film` to an EXR file at `path` (the layout is in the module documentation).
 pub fn write_exr(path: &Path, film: &Film) -> Result<(), OutputError> {
+    write_file(path, |sink| encode_exr(sink, path, film))
+}
+
+/// The EXR file of [`write_exr`] into `sink` (to stage it with other outputs,
+/// [`super::file::Outputs::stage`]); errors name `path`.
+pub fn encode_exr(sink: &mut Sink, path: &Path, film: &Film) -> Result<(), OutputError> {
     let layout = *film.layout();
     let components = layout.components();
     let vec3_channel = |name: String, values: &[Vec3], component: usize| {
@@ -108,11 +114,9 @@ pub fn write_exr(path: &Path, film: &Film) -> Result<(), OutputError> {
     for (name, value) in attributes {
         image.attributes.other.insert(Text::from(name), value);
     }
-    write_atomically(path, |tmp| {
-        image
-            .write()
-            .to_file(tmp)
-            .map_err(|e| OutputError::Codec { path: path.display().to_string(), message: e.to_string() })
+    image.write().to_buffered(sink).map_err(|e| match e {
+        ::exr::error::Error::Io(source) => OutputError::Io { path: path.display().to_string(), source },
+        e => OutputError::Codec { path: path.display().to_string(), message: e.to_string() },
     })
 }
 

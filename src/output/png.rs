@@ -3,8 +3,9 @@
 use std::path::Path;
 
 use glam::Vec3;
+use image::ImageEncoder;
 
-use super::atomic::write_atomically;
+use super::file::{write_file, Sink};
 use super::OutputError;
 use crate::spectrum::color::srgb_encode;
 
@@ -17,25 +18,44 @@ pub fn write_png(
     rgb: &[Vec3],
     exposure_ev: f32,
 ) -> Result<(), OutputError> {
+    write_file(path, |sink| encode_png(sink, path, width, height, rgb, exposure_ev))
+}
+
+/// The PNG file of [`write_png`] into `sink` (to stage it with other outputs,
+/// [`super::file::Outputs::stage`]); errors name `path`.
+pub fn encode_png(
+    sink: &mut Sink,
+    path: &Path,
+    width: u32,
+    height: u32,
+    rgb: &[Vec3],
+    exposure_ev: f32,
+) -> Result<(), OutputError> {
     let scale = exposure_ev.exp2();
     let bytes: Vec<u8> = rgb
         .iter()
         .flat_map(|p| (*p * scale).to_array())
-        .map(|v| {
-            // The renderer never produces NaN; `as u8` saturates (NaN → 0), which keeps the
-            // preview writer total anyway.
-            (srgb_encode(v.clamp(0.0, 1.0)) * 255.0 + 0.5) as u8
-        })
+        // Renders are checked finite before they are written (`Film::check_finite`); `as u8`
+        // saturates (NaN → 0), which keeps this encoder total for any caller.
+        .map(|v| (srgb_encode(v.clamp(0.0, 1.0)) * 255.0 + 0.5) as u8)
         .collect();
-    write_atomically(path, |tmp| {
-        image::save_buffer_with_format(
-            tmp,
-            &bytes,
-            width,
-            height,
-            image::ColorType::Rgb8,
-            image::ImageFormat::Png,
-        )
-        .map_err(|e| OutputError::Codec { path: path.display().to_string(), message: e.to_string() })
-    })
+    encode_png_bytes(sink, path, width, height, &bytes)
+}
+
+/// Encodes 8-bit RGB `bytes` (row-major, top row first) as PNG into `sink`.
+pub fn encode_png_bytes(
+    sink: &mut Sink,
+    path: &Path,
+    width: u32,
+    height: u32,
+    bytes: &[u8],
+) -> Result<(), OutputError> {
+    image::codecs::png::PngEncoder::new(sink)
+        .write_image(bytes, width, height, image::ExtendedColorType::Rgb8)
+        .map_err(|e| match e {
+            image::ImageError::IoError(source) => {
+                OutputError::Io { path: path.display().to_string(), source }
+            }
+            e => OutputError::Codec { path: path.display().to_string(), message: e.to_string() },
+        })
 }

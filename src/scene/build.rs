@@ -12,21 +12,18 @@ use toml::Spanned;
 use super::desc::{
     CameraDesc, EmitSide, IorDesc, LightDesc, MaterialDesc, RenderDesc, SceneDesc, ShapeDesc, SpectrumDesc,
 };
-use super::error::{line_column, one_line};
+use super::error::{line_column, one_line, shorten};
+use super::typed::Typed;
 use super::{RenderSettings, Scene, SceneError, Surface};
 use crate::camera::Camera;
 use crate::geometry::{Geometry, Mesh, Plane, Quad, Shape, Sphere};
 use crate::light::{Light, PointLight, QuadLight};
 use crate::material::{Conductor, Dielectric, Diffuse, Material, Mirror, Polarizer, Retarder};
 use crate::optics::{catalogue, metals, Ior};
-use crate::spectrum::{DenseSpectrum, Spectrum, N_LAMBDA};
+use crate::spectrum::{DenseSpectrum, Spectrum, LAMBDA_MAX_NM, LAMBDA_MIN_NM, N_LAMBDA};
 
-/// Largest accepted image side, in pixels.
-pub const MAX_RESOLUTION: u32 = 32_768;
-/// Largest accepted sample count per pixel.
-pub const MAX_SPP: u32 = 1 << 20;
-/// Largest accepted recursion depth (deep Whitted chains recurse on the thread stack).
-pub const MAX_DEPTH: u32 = 4096;
+use super::limits::{MAX_COORDINATE, MAX_EMISSION, MAX_IOR, MIN_IOR, MIN_LENGTH};
+pub use super::limits::{MAX_DEPTH, MAX_RESOLUTION, MAX_SPP};
 
 /// Reads and builds the scene file at `path`.
 pub fn load(path: &Path) -> Result<Scene, SceneError> {
@@ -39,8 +36,15 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
 /// relative mesh paths).
 pub fn parse(text: &str, path: &Path) -> Result<Scene, SceneError> {
     let desc: SceneDesc = toml::from_str(text).map_err(|err| {
-        let (line, column) = err.span().map_or((1, 1), |span| line_column(text, span.start));
-        SceneError::Syntax { file: path.to_owned(), line, column, message: one_line(err.message()) }
+        let offset = err.span().map_or(0, |span| span.start);
+        let (line, column) = line_column(text, offset);
+        let message = one_line(err.message());
+        match super::locate::field_at(text, offset, err.message()) {
+            Some(field) => {
+                SceneError::Invalid { file: path.to_owned(), line, field: shorten(&field), message }
+            }
+            None => SceneError::Syntax { file: path.to_owned(), line, column, message },
+        }
     })?;
     Builder { text, path }.build(desc)
 }
@@ -77,7 +81,7 @@ impl Builder<'_> {
         SceneError::Invalid {
             file: self.path.to_owned(),
             line: line_column(self.text, span.start).0,
-            field: field.into(),
+            field: shorten(&field.into()),
             message: one_line(&message.into()),
         }
     }
@@ -200,7 +204,7 @@ impl Builder<'_> {
                 format!("must be in [0, 1), got {prune_below}"),
             ));
         }
-        Ok(RenderSettings {
+        let settings = RenderSettings {
             spp,
             max_depth,
             wavelengths: wavelengths as usize,
@@ -208,13 +212,15 @@ impl Builder<'_> {
             area_light_samples,
             prune_below,
             polarized: desc.polarized.unwrap_or(defaults.polarized),
-        })
+        };
+        settings.check_ray_tree_bound().map_err(|message| self.error(span, "render.max_depth", message))?;
+        Ok(settings)
     }
 
-    fn material(&self, name: &str, material: &Spanned<MaterialDesc>) -> Result<Material, SceneError> {
+    fn material(&self, name: &str, material: &Spanned<Typed<MaterialDesc>>) -> Result<Material, SceneError> {
         let span = material.span();
         let field = |f: &str| format!("materials.{name}.{f}");
-        Ok(match material.get_ref() {
+        Ok(match &material.get_ref().0 {
             MaterialDesc::Diffuse { albedo, roughness_deg } => {
                 let albedo = self.spectrum(albedo, Role::Reflectance, span.clone(), &field("albedo"))?;
                 let sigma_deg = roughness_deg.unwrap_or(0.0);
@@ -340,7 +346,23 @@ impl Builder<'_> {
         } else {
             unreachable!("exactly one IOR form was checked above")
         };
-        ior.validate().map_err(|err| self.error(span, field, err.to_string()))?;
+        ior.validate().map_err(|err| self.error(span.clone(), field, err.to_string()))?;
+        // Whole nanometres of the rendered range: the models are smooth between them, and a
+        // table's knots are checked by `validate`.
+        let whole_nm = (LAMBDA_MIN_NM as u32..=LAMBDA_MAX_NM as u32).map(|nm| nm as f32);
+        for lambda_nm in whole_nm {
+            let n = ior.eval(lambda_nm);
+            if !(MIN_IOR..=MAX_IOR).contains(&n) {
+                return Err(self.error(
+                    span,
+                    field,
+                    format!(
+                        "n = {} at {lambda_nm} nm; an index of refraction must lie in [{MIN_IOR}, {MAX_IOR}]",
+                        number(n)
+                    ),
+                ));
+            }
+        }
         Ok(ior)
     }
 
@@ -412,15 +434,54 @@ impl Builder<'_> {
         } else {
             unreachable!("exactly one spectrum form was checked above")
         };
-        Ok(DenseSpectrum::new(&spectrum.scaled(scale)))
+        let resolved = DenseSpectrum::new(&spectrum.scaled(scale));
+        self.check_resolved(&resolved, role, span, field)?;
+        Ok(resolved)
+    }
+
+    /// Checks a spectrum as the renderer will evaluate it (after `scale` and tabulation, whatever
+    /// form it was written in): finite, ≥ 0, ≤ 1 for a reflectance, ≤ [`MAX_EMISSION`] for an
+    /// emitter.
+    fn check_resolved(
+        &self,
+        resolved: &DenseSpectrum,
+        role: Role,
+        span: std::ops::Range<usize>,
+        field: &str,
+    ) -> Result<(), SceneError> {
+        let (upper, rule) = match role {
+            Role::Reflectance => (1.0, "a reflectance must lie in [0, 1]".to_owned()),
+            Role::Emission => (MAX_EMISSION, format!("an emission must lie in [0, {MAX_EMISSION:e}]")),
+            Role::Coefficient => (f32::MAX, "a coefficient must be finite and ≥ 0".to_owned()),
+        };
+        let values = resolved.values();
+        match values.iter().position(|v| !(0.0..=upper).contains(v)) {
+            None => Ok(()),
+            Some(index) => {
+                let at = if values.len() == 1 {
+                    "at every wavelength".to_owned()
+                } else {
+                    format!("at {} nm", LAMBDA_MIN_NM + index as f32)
+                };
+                Err(self.error(
+                    span,
+                    field,
+                    format!("the spectrum (after its scale) is {} {at}; {rule}", number(values[index])),
+                ))
+            }
+        }
     }
 
     fn point(&self, p: [f32; 3], span: std::ops::Range<usize>, field: &str) -> Result<Vec3, SceneError> {
         let v = Vec3::from(p);
-        if v.is_finite() {
+        if v.is_finite() && v.abs().max_element() <= MAX_COORDINATE {
             Ok(v)
         } else {
-            Err(self.error(span, field, format!("must be finite, got {p:?}")))
+            Err(self.error(
+                span,
+                field,
+                format!("each component must be finite and within ±{MAX_COORDINATE:e}, got {p:?}"),
+            ))
         }
     }
 
@@ -433,12 +494,41 @@ impl Builder<'_> {
         }
     }
 
-    fn positive(&self, value: f32, span: std::ops::Range<usize>, field: &str) -> Result<f32, SceneError> {
-        if value.is_finite() && value > 0.0 {
+    /// A length or scale factor: within [[`MIN_LENGTH`], [`MAX_COORDINATE`]].
+    fn length(&self, value: f32, span: std::ops::Range<usize>, field: &str) -> Result<f32, SceneError> {
+        if (MIN_LENGTH..=MAX_COORDINATE).contains(&value) {
             Ok(value)
         } else {
-            Err(self.error(span, field, format!("must be finite and > 0, got {value}")))
+            Err(self.error(
+                span,
+                field,
+                format!("must lie in [{MIN_LENGTH:e}, {MAX_COORDINATE:e}], got {}", number(value)),
+            ))
         }
+    }
+
+    /// Checks a mesh as it will be rendered (after its transform): every vertex within
+    /// ±[`MAX_COORDINATE`], every normal finite.
+    fn check_placed_mesh(
+        &self,
+        mesh: &Mesh,
+        span: std::ops::Range<usize>,
+        at: &str,
+        what: &str,
+    ) -> Result<(), SceneError> {
+        if let Some(index) =
+            mesh.positions.iter().position(|p| !(p.is_finite() && p.abs().max_element() <= MAX_COORDINATE))
+        {
+            return Err(self.error(
+                span,
+                at,
+                format!(
+                    "{what} puts vertex {index} at {}, beyond ±{MAX_COORDINATE:e} scene units",
+                    mesh.positions[index]
+                ),
+            ));
+        }
+        mesh.validate().map_err(|e| self.error(span, at, format!("{what}: {e}")))
     }
 
     fn quad(
@@ -468,7 +558,7 @@ impl Builder<'_> {
     fn shape(
         &self,
         index: usize,
-        shape: &Spanned<ShapeDesc>,
+        shape: &Spanned<Typed<ShapeDesc>>,
         materials: &Materials,
         shapes: &mut Vec<Shape>,
         surfaces: &mut Vec<Surface>,
@@ -513,13 +603,13 @@ impl Builder<'_> {
             }
             Ok(())
         };
-        match shape.get_ref() {
+        match &shape.get_ref().0 {
             ShapeDesc::Sphere { center, radius, material } => {
                 let material = material_of(material)?;
                 sheet(material, None)?;
                 let sphere = Sphere {
                     center: self.point(*center, span.clone(), &format!("{at}.center"))?,
-                    radius: self.positive(*radius, span.clone(), &format!("{at}.radius"))?,
+                    radius: self.length(*radius, span.clone(), &format!("{at}.radius"))?,
                 };
                 shapes.push(Shape::Sphere(sphere));
                 surfaces.push(Surface { material, emitter: None });
@@ -547,8 +637,10 @@ impl Builder<'_> {
                 let transform = self.transform(*scale, *rotate_deg, *position, span.clone(), &at)?;
                 let obj = self.path.parent().unwrap_or(Path::new(".")).join(file);
                 let mesh = Mesh::load_obj(&obj)
-                    .map_err(|e| self.error(span.clone(), format!("{at}.file"), e.to_string()))?;
-                push_mesh(mesh.transformed(&transform), material, shapes, surfaces, meshes);
+                    .map_err(|e| self.error(span.clone(), format!("{at}.file"), e.to_string()))?
+                    .transformed(&transform);
+                self.check_placed_mesh(&mesh, span, &at, "the transform (scale, rotate_deg, position)")?;
+                push_mesh(mesh, material, shapes, surfaces, meshes);
             }
             ShapeDesc::Prism { apex_angle_deg, side_length, length, material, rotate_deg, position } => {
                 let material = material_of(material)?;
@@ -560,11 +652,26 @@ impl Builder<'_> {
                         format!("must be in (0, 180) degrees, got {apex_angle_deg}"),
                     ));
                 }
-                let side = self.positive(*side_length, span.clone(), &format!("{at}.side_length"))?;
-                let length = self.positive(*length, span.clone(), &format!("{at}.length"))?;
+                let side = self.length(*side_length, span.clone(), &format!("{at}.side_length"))?;
+                let length = self.length(*length, span.clone(), &format!("{at}.length"))?;
                 let transform = self.transform(None, *rotate_deg, *position, span.clone(), &at)?;
-                let prism = Mesh::triangular_prism(apex_angle_deg.to_radians(), side, length);
-                push_mesh(prism.transformed(&transform), material, shapes, surfaces, meshes);
+                // The angle is checked again in radians: 1e-44° is > 0 but underflows to 0 rad.
+                let apex_rad = apex_angle_deg.to_radians();
+                let prism = Mesh::try_triangular_prism(apex_rad, side, length)
+                    .map_err(|_| {
+                        self.error(
+                            span.clone(),
+                            format!("{at}.apex_angle_deg"),
+                            format!(
+                                "{}° is {} rad in 32-bit floats; the angle must lie strictly between 0 and 180°",
+                                number(*apex_angle_deg),
+                                number(apex_rad)
+                            ),
+                        )
+                    })?
+                    .transformed(&transform);
+                self.check_placed_mesh(&prism, span, &at, "the prism's size and placement")?;
+                push_mesh(prism, material, shapes, surfaces, meshes);
             }
         }
         Ok(())
@@ -578,7 +685,7 @@ impl Builder<'_> {
         span: std::ops::Range<usize>,
         at: &str,
     ) -> Result<Affine3A, SceneError> {
-        let scale = self.positive(scale.unwrap_or(1.0), span.clone(), &format!("{at}.scale"))?;
+        let scale = self.length(scale.unwrap_or(1.0), span.clone(), &format!("{at}.scale"))?;
         let [rx, ry, rz] =
             self.point(rotate_deg.unwrap_or([0.0; 3]), span.clone(), &format!("{at}.rotate_deg"))?.to_array();
         let position = self.point(position.unwrap_or([0.0; 3]), span, &format!("{at}.position"))?;
@@ -587,10 +694,10 @@ impl Builder<'_> {
         Ok(Affine3A::from_scale_rotation_translation(Vec3::splat(scale), rotation, position))
     }
 
-    fn light(&self, index: usize, light: &Spanned<LightDesc>) -> Result<Light, SceneError> {
+    fn light(&self, index: usize, light: &Spanned<Typed<LightDesc>>) -> Result<Light, SceneError> {
         let span = light.span();
         let at = format!("lights[{index}]");
-        Ok(match light.get_ref() {
+        Ok(match &light.get_ref().0 {
             LightDesc::Point { position, intensity } => Light::Point(PointLight {
                 position: self.point(*position, span.clone(), &format!("{at}.position"))?,
                 intensity: self.spectrum(intensity, Role::Emission, span, &format!("{at}.intensity"))?,
@@ -608,6 +715,16 @@ impl Builder<'_> {
     }
 }
 
+/// `x` for a message: scientific notation when it is very large or very small, so that 3e38
+/// does not print as 39 digits.
+fn number(x: f32) -> String {
+    if x != 0.0 && x.is_finite() && !(1e-4..1e6).contains(&x.abs()) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
+}
+
 fn push_mesh(
     mesh: Mesh,
     material: u32,
@@ -621,4 +738,156 @@ fn push_mesh(
         surfaces.push(Surface { material, emitter: None });
     }
     meshes.push(mesh);
+}
+
+/// Regressions found by fuzzing the scene loader (../shared/cases/reliability/ in the issue):
+/// each value was accepted and then panicked or rendered NaN or nothing; each must now be
+/// refused at load, naming the field.
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const CAMERA: &str =
+        "[camera]\nposition = [0, 0, -5]\nlook_at = [0, 0, 0]\nfov_y_deg = 40\nwidth = 4\nheight = 3\n";
+    const GLASS: &str = "[materials.glass]\ntype = \"dielectric\"\nior = 1.5\n";
+
+    /// The error of loading `body` after a camera, as its message.
+    fn rejection(body: &str) -> String {
+        let text = format!("{CAMERA}{body}");
+        match parse(&text, Path::new("scene.toml")) {
+            Ok(_) => panic!("accepted:\n{body}"),
+            Err(error) => error.to_string(),
+        }
+    }
+
+    fn assert_rejected(body: &str, fragments: &[&str]) {
+        let message = rejection(body);
+        for fragment in fragments {
+            assert!(message.contains(fragment), "{fragment:?} missing from: {message}");
+        }
+    }
+
+    fn obj_scene(transform: &str) -> (tempfile::TempDir, String) {
+        let dir = tempfile::tempdir().expect("temporary directory");
+        std::fs::write(dir.path().join("tri.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").expect("obj");
+        let body = format!(
+            "{GLASS}[[shapes]]\ntype = \"mesh\"\nfile = \"tri.obj\"\nmaterial = \"glass\"\n{transform}"
+        );
+        (dir, body)
+    }
+
+    #[test]
+    fn panic_prism_tiny_apex() {
+        // 1e-44° is in (0°, 180°) but 0 rad in f32: the prism builder panicked.
+        let prism = "[[shapes]]\ntype = \"prism\"\napex_angle_deg = 1e-44\nside_length = 1\nlength = 1\nmaterial = \"glass\"\n";
+        assert_rejected(&format!("{GLASS}{prism}"), &["shapes[0].apex_angle_deg", "0 rad"]);
+    }
+
+    #[test]
+    fn panic_prism_side_overflow() {
+        let prism = "[[shapes]]\ntype = \"prism\"\napex_angle_deg = 60\nside_length = 3e38\nlength = 1\nmaterial = \"glass\"\n";
+        assert_rejected(&format!("{GLASS}{prism}"), &["shapes[0].side_length", "3e38"]);
+        // Each value within range, the placed prism beyond it: checked after the transform.
+        let placed = "[[shapes]]\ntype = \"prism\"\napex_angle_deg = 60\nside_length = 1e10\nlength = 1e10\nposition = [1e10, 0, 0]\nmaterial = \"glass\"\n";
+        assert_rejected(&format!("{GLASS}{placed}"), &["shapes[0]", "vertex", "beyond"]);
+    }
+
+    #[test]
+    fn panic_mesh_transform_overflow() {
+        // The reproducer: scale 3e38, position 3e38 (vertex (1, 0, 0) → inf).
+        let (dir, body) = obj_scene("scale = 3e38\nposition = [3e38, 0, 0]\n");
+        let text = format!("{CAMERA}{body}");
+        let error = parse(&text, &dir.path().join("scene.toml")).expect_err("overflow").to_string();
+        assert!(error.contains("shapes[0].scale"), "{error}");
+        // Scale and position each within range, the transformed vertex (2e10, 0, 0) is not.
+        let (dir, body) = obj_scene("scale = 1e10\nposition = [1e10, 0, 0]\n");
+        let text = format!("{CAMERA}{body}");
+        let error = parse(&text, &dir.path().join("scene.toml")).expect_err("beyond").to_string();
+        assert!(error.contains("shapes[0]") && error.contains("vertex 1"), "{error}");
+    }
+
+    #[test]
+    fn nan_background_1e36() {
+        let text = format!("background = 1e36\n{CAMERA}");
+        let message = parse(&text, Path::new("s.toml")).expect_err("overflows").to_string();
+        assert!(message.contains("s.toml:1: background") && message.contains("1e15"), "{message}");
+        // Below the limit, loads.
+        parse(&format!("background = 1e15\n{CAMERA}"), Path::new("s.toml")).expect("at the limit");
+    }
+
+    #[test]
+    fn nan_spectrum_scale_product() {
+        // Each factor finite, the product inf.
+        let light = "[[lights]]\ntype = \"point\"\nposition = [0, 0, 0]\nintensity = { value = 1e30, scale = 1e30 }\n";
+        assert_rejected(light, &["lights[0].intensity", "inf"]);
+    }
+
+    #[test]
+    fn reflectance_above_one_via_scale() {
+        for albedo in [
+            "{ value = 1, scale = 100 }",
+            "{ illuminant = \"D65\" }",
+            "{ illuminant = \"E\", scale = 1.5 }",
+            "{ blackbody_k = 3000 }",
+            "{ rgb = [1, 1, 1], scale = 1.01 }",
+        ] {
+            let material = format!("[materials.white]\ntype = \"diffuse\"\nalbedo = {albedo}\n");
+            assert_rejected(&material, &["materials.white.albedo", "reflectance must lie in [0, 1]"]);
+        }
+        let mirror = "[materials.m]\ntype = \"mirror\"\nreflectance = { illuminant = \"D65\", scale = 3 }\n";
+        assert_rejected(mirror, &["materials.m.reflectance"]);
+        // A reflectance within [0, 1] through scale still loads.
+        let fine =
+            format!("{CAMERA}[materials.w]\ntype = \"diffuse\"\nalbedo = {{ value = 1, scale = 0.5 }}\n");
+        parse(&fine, Path::new("s.toml")).expect("albedo 0.5");
+    }
+
+    #[test]
+    fn sphere_radius_1e20_invisible() {
+        // r² overflowed f32, so the sphere was never hit.
+        let sphere =
+            "[[shapes]]\ntype = \"sphere\"\ncenter = [0, 0, 0]\nradius = 1e20\nmaterial = \"glass\"\n";
+        assert_rejected(&format!("{GLASS}{sphere}"), &["shapes[0].radius", "1e10"]);
+        let tiny = sphere.replace("1e20", "1e-30");
+        assert_rejected(&format!("{GLASS}{tiny}"), &["shapes[0].radius"]);
+    }
+
+    #[test]
+    fn extreme_indices_of_refraction_are_refused() {
+        for ior in ["1e30", "1e-30", "{ cauchy = [1000, 0, 0] }"] {
+            let material = format!("[materials.g]\ntype = \"dielectric\"\nior = {ior}\n");
+            assert_rejected(&material, &["materials.g.ior", "must lie in [0.01, 100]"]);
+        }
+    }
+
+    #[test]
+    fn coordinates_beyond_the_limit_are_refused() {
+        let light = "[[lights]]\ntype = \"point\"\nposition = [0, 1e11, 0]\nintensity = 1\n";
+        assert_rejected(light, &["lights[0].position", "1e10"]);
+    }
+
+    #[test]
+    fn prune0_exponential_time() {
+        // The reproducer's settings: pruning off with depth 24 (40 s for a small image, hours at
+        // depth 32) is refused, naming the rule; depth 20, or pruning at 1e-4, is accepted.
+        let settings = |render: &str| format!("{CAMERA}[render]\n{render}\n");
+        let message = rejection("[render]\nmax_depth = 24\nprune_below = 0\n");
+        assert!(message.contains("render.max_depth") && message.contains("2^24"), "{message}");
+        let message = rejection("[render]\nmax_depth = 1000\nprune_below = 1e-30\n");
+        assert!(message.contains("at most 20"), "{message}");
+        for fine in
+            ["max_depth = 20\nprune_below = 0", "max_depth = 4096\nprune_below = 1e-4", "max_depth = 4096"]
+        {
+            parse(&settings(fine), Path::new("s.toml")).unwrap_or_else(|e| panic!("{fine}: {e}"));
+        }
+    }
+
+    #[test]
+    fn toml_errors_name_the_field_at_the_values_line() {
+        let sphere =
+            "[[shapes]]\ntype = \"sphere\"\ncenter = [0, 0, 0]\nradius = \"one\"\nmaterial = \"glass\"\n";
+        let message = rejection(&format!("{GLASS}{sphere}"));
+        // CAMERA has 6 lines, GLASS 3, then [[shapes]], type, center: radius is line 13.
+        assert!(message.starts_with("scene.toml:13: shapes[0].radius: invalid type"), "{message}");
+    }
 }

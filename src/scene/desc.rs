@@ -29,6 +29,8 @@ use serde::de::{self, MapAccess, Visitor};
 use serde::{Deserialize, Deserializer};
 use toml::Spanned;
 
+use super::typed::{TypeNames, Typed};
+
 /// A whole scene file.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -43,13 +45,13 @@ pub struct SceneDesc {
     pub background: Option<Spanned<SpectrumDesc>>,
     /// Named materials, referenced by shapes.
     #[serde(default)]
-    pub materials: BTreeMap<String, Spanned<MaterialDesc>>,
+    pub materials: BTreeMap<String, Spanned<Typed<MaterialDesc>>>,
     /// The shapes, in order.
     #[serde(default)]
-    pub shapes: Vec<Spanned<ShapeDesc>>,
+    pub shapes: Vec<Spanned<Typed<ShapeDesc>>>,
     /// The lights, in order.
     #[serde(default)]
-    pub lights: Vec<Spanned<LightDesc>>,
+    pub lights: Vec<Spanned<Typed<LightDesc>>>,
 }
 
 /// `[camera]`: a pinhole camera.
@@ -96,9 +98,9 @@ pub struct RenderDesc {
     pub polarized: Option<bool>,
 }
 
-/// A material, selected by `type`.
+/// A material, selected by `type` (read by [`Typed`], which keeps the positions of its values).
 #[derive(Debug, Deserialize)]
-#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum MaterialDesc {
     /// Lambertian or Oren–Nayar diffuse reflector.
     Diffuse {
@@ -145,9 +147,13 @@ pub enum MaterialDesc {
     },
 }
 
+impl TypeNames for MaterialDesc {
+    const TYPES: &'static [&'static str] = &["diffuse", "mirror", "dielectric", "polarizer", "retarder"];
+}
+
 /// A shape, selected by `type`.
 #[derive(Debug, Deserialize)]
-#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum ShapeDesc {
     /// A sphere.
     Sphere {
@@ -213,9 +219,13 @@ pub enum ShapeDesc {
     },
 }
 
+impl TypeNames for ShapeDesc {
+    const TYPES: &'static [&'static str] = &["sphere", "plane", "quad", "mesh", "prism"];
+}
+
 /// A light, selected by `type`.
 #[derive(Debug, Deserialize)]
-#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum LightDesc {
     /// An isotropic point light.
     Point {
@@ -237,6 +247,10 @@ pub enum LightDesc {
         /// The side that emits.
         emit: EmitSide,
     },
+}
+
+impl TypeNames for LightDesc {
+    const TYPES: &'static [&'static str] = &["point", "quad"];
 }
 
 /// The emitting side of a quad light.

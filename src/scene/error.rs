@@ -6,8 +6,8 @@ use std::path::PathBuf;
 /// A scene file that cannot be loaded. `Display` is a single line.
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
-    /// The file cannot be read.
-    #[error("{}: cannot read the scene file: {source}", file.display())]
+    /// The file cannot be read (the OS error follows in the error chain).
+    #[error("{}: cannot read the scene file", file.display())]
     Io {
         /// The scene file.
         file: PathBuf,
@@ -48,14 +48,42 @@ pub fn line_column(text: &str, offset: usize) -> (usize, usize) {
     (line, column)
 }
 
-/// Collapses a multi-line message into one line.
+/// Longest word kept whole in a message: longer ones (a 5 MB key echoed by the TOML parser, a
+/// pasted path) are cut, so that every message stays a readable line.
+const MAX_WORD_CHARS: usize = 80;
+
+/// Collapses a multi-line message into one line and shortens every word longer than
+/// [`MAX_WORD_CHARS`] to its start, an ellipsis and its length.
 pub fn one_line(message: &str) -> String {
-    message.split_whitespace().collect::<Vec<_>>().join(" ")
+    message.split_whitespace().map(shorten).collect::<Vec<_>>().join(" ")
+}
+
+/// `text` itself, or its first characters and how long it was when it is too long to echo.
+pub fn shorten(text: &str) -> String {
+    match text.char_indices().nth(MAX_WORD_CHARS) {
+        None => text.to_owned(),
+        Some(_) => {
+            let head: String = text.chars().take(MAX_WORD_CHARS - 20).collect();
+            format!("{head}…[{} characters]", text.chars().count())
+        }
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn long_words_are_cut_so_messages_stay_short() {
+        let key = "k".repeat(5_000_000);
+        let message = one_line(&format!("unknown field `{key}`, expected one of `a`, `b`"));
+        assert!(message.len() < 200, "{} bytes", message.len());
+        assert!(
+            message.contains("5000003 characters") && message.ends_with("expected one of `a`, `b`"),
+            "{message}"
+        );
+        assert_eq!(one_line("short words\n stay"), "short words stay");
+    }
 
     #[test]
     fn line_column_counts_from_one() {

@@ -4,6 +4,9 @@
 pub mod build;
 pub mod desc;
 pub mod error;
+pub mod limits;
+mod locate;
+pub mod typed;
 
 pub use build::{load, parse};
 pub use error::SceneError;
@@ -13,6 +16,7 @@ use crate::geometry::Geometry;
 use crate::light::Light;
 use crate::material::Material;
 use crate::spectrum::DenseSpectrum;
+use limits::{MAX_DEPTH_UNPRUNED, MIN_PRUNE_BELOW_DEEP};
 
 /// Sampling settings of a render.
 #[derive(Debug, Clone, PartialEq)]
@@ -44,6 +48,25 @@ impl Default for RenderSettings {
             prune_below: 0.01,
             polarized: true,
         }
+    }
+}
+
+impl RenderSettings {
+    /// Checks the rule that bounds the Whitted ray tree: with `prune_below` below
+    /// [`MIN_PRUNE_BELOW_DEEP`] (0: pruning off), `max_depth` may be at most
+    /// [`MAX_DEPTH_UNPRUNED`], as every glass hit may keep both branches (2^max_depth rays per
+    /// sample); with stronger pruning, Russian roulette bounds the tree at any depth. The error
+    /// says what to change.
+    pub fn check_ray_tree_bound(&self) -> Result<(), String> {
+        if self.prune_below < MIN_PRUNE_BELOW_DEEP && self.max_depth > MAX_DEPTH_UNPRUNED {
+            return Err(format!(
+                "max_depth = {} with prune_below = {} could cost up to 2^{} rays per sample; with \
+                 prune_below below {MIN_PRUNE_BELOW_DEEP:e}, max_depth must be at most \
+                 {MAX_DEPTH_UNPRUNED} (or set prune_below ≥ {MIN_PRUNE_BELOW_DEEP:e}; the default is 0.01)",
+                self.max_depth, self.prune_below, self.max_depth
+            ));
+        }
+        Ok(())
     }
 }
 

@@ -65,6 +65,16 @@ impl DenseSpectrum {
         }
     }
 
+    /// The tabulated values (one for a constant): every value the renderer can interpolate
+    /// lies between two of them, so their range is the spectrum's range (the scene builder
+    /// checks it).
+    pub fn values(&self) -> &[f32] {
+        match self {
+            Self::Constant(value) => std::slice::from_ref(value),
+            Self::Table(table) => table.as_slice(),
+        }
+    }
+
     /// True when the value is the same at every wavelength.
     pub fn is_constant(&self) -> bool {
         match self {

@@ -1,0 +1,512 @@
+//! The one way prisma writes a file: EXR, PNG, statistics, plots, CSV and reports all go
+//! through [`Outputs`].
+//!
+//! - **Checked before any work** ([`check_destination`]): a directory, a path ending in `/`, a
+//!   block device, a socket or a dangling symbolic link is refused, and the nearest existing
+//!   directory must accept a new file. Commands run these checks before they render.
+//! - **Staged, then put in place together** ([`Outputs::stage`], [`Outputs::commit`]): each
+//!   output is encoded into a hidden temporary file beside its destination
+//!   (`.NAME.tmp-PID-N.EXT`); every write, the final flush and an `fsync` are checked. Only when
+//!   every output of a command is staged are they renamed over their destinations, so a failure
+//!   while encoding or writing any of them (a full disk, an encoder error) leaves no new file
+//!   and every old one as it was. A failing rename during the commit (very rare: the staging
+//!   proved the directory writable) leaves the outputs renamed before it in place.
+//! - **Special files are written, never replaced.** Renaming over `/dev/null` as root replaced
+//!   the device node with a regular file; a character device or a FIFO is now opened and written
+//!   in place (its bytes staged in memory until the commit). A symbolic link is followed: the
+//!   file it points to is replaced, the link stays.
+//! - **Interrupted, nothing is left behind.** Temporary files are registered while they exist;
+//!   [`remove_temporaries`] deletes them, and the binary calls it from its Ctrl-C / SIGTERM
+//!   handler before exiting. (A registry of paths is the one piece of global state here: a
+//!   signal handler has no other way to reach them.)
+
+use std::fs::{File, OpenOptions};
+use std::io::{BufWriter, Cursor, Seek, SeekFrom, Write};
+use std::path::{Component, Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Mutex;
+
+use super::OutputError;
+
+/// Temporary files that exist now, for [`remove_temporaries`].
+static TEMPORARIES: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+/// Numbers temporary files within this process.
+static NEXT_TEMPORARY: AtomicU64 = AtomicU64::new(0);
+
+/// Deletes every temporary file this process has open for writing (for a signal handler: the
+/// process is about to exit, and its outputs are abandoned).
+pub fn remove_temporaries() {
+    let paths = match TEMPORARIES.lock() {
+        Ok(paths) => paths,
+        Err(poisoned) => poisoned.into_inner(),
+    };
+    for path in paths.iter() {
+        let _ = std::fs::remove_file(path);
+    }
+}
+
+/// A temporary file path that [`remove_temporaries`] knows about until it is dropped (which
+/// removes the file unless [`Temporary::keep`] was called after renaming it).
+struct Temporary {
+    path: PathBuf,
+    owned: bool,
+}
+
+impl Temporary {
+    /// A new, unused name beside `target`, registered before the file is created.
+    fn beside(target: &Path) -> Self {
+        let stem = target.file_stem().map_or_else(|| "output".into(), |s| s.to_string_lossy().into_owned());
+        let ext = target.extension().map(|e| format!(".{}", e.to_string_lossy())).unwrap_or_default();
+        let number = NEXT_TEMPORARY.fetch_add(1, Ordering::Relaxed);
+        let path = target.with_file_name(format!(".{stem}.tmp-{}-{number}{ext}", std::process::id()));
+        registry_update(|paths| paths.push(path.clone()));
+        Self { path, owned: true }
+    }
+
+    /// The file was renamed away: nothing to remove any more.
+    fn keep(mut self) {
+        self.owned = false;
+    }
+}
+
+impl Drop for Temporary {
+    fn drop(&mut self) {
+        if self.owned {
+            let _ = std::fs::remove_file(&self.path);
+        }
+        registry_update(|paths| paths.retain(|p| p != &self.path));
+    }
+}
+
+fn registry_update(change: impl FnOnce(&mut Vec<PathBuf>)) {
+    match TEMPORARIES.lock() {
+        Ok(mut paths) => change(&mut paths),
+        Err(poisoned) => change(&mut poisoned.into_inner()),
+    }
+}
+
+/// Where an output goes, once checked.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Destination {
+    /// A regular file (existing or not): written beside it, then renamed over it. The path is
+    /// the one to replace (a symbolic link's target).
+    Replace(PathBuf),
+    /// A character device or FIFO (`/dev/null`, `/dev/stdout`, a pipe): written in place.
+    Special(PathBuf),
+}
+
+impl Destination {
+    /// The file that receives the bytes.
+    pub fn path(&self) -> &Path {
+        match self {
+            Destination::Replace(path) | Destination::Special(path) => path,
+        }
+    }
+}
+
+/// Checks that `path` can receive an output, without writing it: see the module doc.
+pub fn check_destination(path: &Path) -> Result<Destination, OutputError> {
+    let refuse = |problem: &str| OutputError::Destination {
+        path: path.display().to_string(),
+        problem: problem.into(),
+    };
+    let text = path.as_os_str().to_string_lossy();
+    if text.is_empty() {
+        return Err(refuse("an empty path"));
+    }
+    if text.ends_with('/')
+        || matches!(
+            path.components().next_back(),
+            Some(Component::CurDir | Component::ParentDir | Component::RootDir)
+        )
+    {
+        return Err(refuse("names a directory; give a file name"));
+    }
+    match std::fs::symlink_metadata(path) {
+        Ok(meta) if meta.file_type().is_symlink() => {
+            let target = std::fs::canonicalize(path).map_err(|_| refuse("is a dangling symbolic link"))?;
+            match check_destination(&target)? {
+                Destination::Replace(_) => Ok(Destination::Replace(target)),
+                special => Ok(special),
+            }
+        }
+        Ok(meta) => {
+            let kind = meta.file_type();
+            if kind.is_dir() {
+                return Err(refuse("is a directory; give a file name"));
+            }
+            if kind.is_file() {
+                probe_directory(path)?;
+                return Ok(Destination::Replace(path.to_owned()));
+            }
+            special_kind(path, &meta).map_err(|what| refuse(&what))
+        }
+        Err(_) => {
+            probe_directory(path)?;
+            Ok(Destination::Replace(path.to_owned()))
+        }
+    }
+}
+
+#[cfg(unix)]
+fn special_kind(path: &Path, meta: &std::fs::Metadata) -> Result<Destination, String> {
+    use std::os::unix::fs::FileTypeExt;
+    let kind = meta.file_type();
+    if kind.is_char_device() || kind.is_fifo() {
+        Ok(Destination::Special(path.to_owned()))
+    } else if kind.is_block_device() {
+        Err("is a block device; prisma writes regular files, character devices and FIFOs only".into())
+    } else {
+        Err("is a socket or other special file; prisma writes regular files, character devices and FIFOs only".into())
+    }
+}
+
+#[cfg(not(unix))]
+fn special_kind(_path: &Path, _meta: &std::fs::Metadata) -> Result<Destination, String> {
+    Err("is not a regular file".into())
+}
+
+/// The nearest existing ancestor directory of `path` accepts a new file (created and removed
+/// at once), so that a missing permission shows before a long render, not after it.
+fn probe_directory(path: &Path) -> Result<(), OutputError> {
+    let refuse = |problem: String| OutputError::Destination { path: path.display().to_string(), problem };
+    let mut ancestor = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    loop {
+        match std::fs::metadata(ancestor) {
+            Ok(meta) if meta.is_dir() => break,
+            Ok(_) => return Err(refuse(format!("{} is not a directory", ancestor.display()))),
+            Err(_) => match ancestor.parent().filter(|p| !p.as_os_str().is_empty()) {
+                Some(parent) => ancestor = parent,
+                None => {
+                    ancestor = Path::new(".");
+                    if std::fs::metadata(ancestor).is_err() {
+                        return Err(refuse("the working directory cannot be read".into()));
+                    }
+                    break;
+                }
+            },
+        }
+    }
+    let probe = Temporary::beside(&ancestor.join("probe"));
+    OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&probe.path)
+        .map_err(|e| refuse(format!("cannot create a file in {}: {e}", ancestor.display())))?;
+    drop(probe);
+    Ok(())
+}
+
+/// The bytes of one output as its encoder writes them: a buffered temporary file or memory
+/// (for a special file). Seekable, as the EXR encoder needs.
+pub enum Sink {
+    /// Into a temporary file.
+    File(BufWriter<File>),
+    /// Into memory.
+    Memory(Cursor<Vec<u8>>),
+}
+
+impl Write for Sink {
+    fn write(&mut self, bytes: &[u8]) -> std::io::Result<usize> {
+        match self {
+            Sink::File(file) => file.write(bytes),
+            Sink::Memory(memory) => memory.write(bytes),
+        }
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        match self {
+            Sink::File(file) => file.flush(),
+            Sink::Memory(memory) => memory.flush(),
+        }
+    }
+}
+
+impl Seek for Sink {
+    fn seek(&mut self, position: SeekFrom) -> std::io::Result<u64> {
+        match self {
+            Sink::File(file) => file.seek(position),
+            Sink::Memory(memory) => memory.seek(position),
+        }
+    }
+}
+
+/// One staged output.
+enum Staged {
+    /// Complete in a temporary file, to be renamed over `target`.
+    Renamed { temporary: Temporary, target: PathBuf },
+    /// Complete in memory, to be written into the special file `target`.
+    Written { bytes: Vec<u8>, target: PathBuf },
+}
+
+/// The outputs of one command: staged one by one, put in place together by [`Outputs::commit`].
+/// Dropped without a commit, it removes what it staged.
+#[derive(Default)]
+pub struct Outputs {
+    staged: Vec<Staged>,
+}
+
+impl Outputs {
+    /// No outputs yet.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Encodes one output for `path`: `encode` writes the file's bytes into the sink. Errors name
+    /// `path`; on error nothing of this output remains.
+    pub fn stage(
+        &mut self,
+        path: &Path,
+        encode: impl FnOnce(&mut Sink) -> Result<(), OutputError>,
+    ) -> Result<(), OutputError> {
+        let io = |source| OutputError::Io { path: path.display().to_string(), source };
+        match check_destination(path)? {
+            Destination::Special(target) => {
+                let mut sink = Sink::Memory(Cursor::new(Vec::new()));
+                encode(&mut sink)?;
+                let Sink::Memory(memory) = sink else { unreachable!("a memory sink stays one") };
+                self.staged.push(Staged::Written { bytes: memory.into_inner(), target });
+            }
+            Destination::Replace(target) => {
+                if let Some(dir) = target.parent().filter(|d| !d.as_os_str().is_empty()) {
+                    std::fs::create_dir_all(dir).map_err(io)?;
+                }
+                let temporary = Temporary::beside(&target);
+                let file =
+                    OpenOptions::new().write(true).create_new(true).open(&temporary.path).map_err(io)?;
+                let mut sink = Sink::File(BufWriter::new(file));
+                encode(&mut sink)?;
+                let Sink::File(buffered) = sink else { unreachable!("a file sink stays one") };
+                // `into_inner` flushes and reports a failed final write; `sync_all` reports what
+                // the file system defers (a full disk shows there on some of them).
+                let file = buffered.into_inner().map_err(|e| io(e.into_error()))?;
+                file.sync_all().map_err(io)?;
+                self.staged.push(Staged::Renamed { temporary, target });
+            }
+        }
+        Ok(())
+    }
+
+    /// Puts every staged output in place: first the special files are written (a write there
+    /// cannot be undone, but when it fails no regular file has been replaced yet), then the
+    /// temporary files are renamed over their destinations in the order staged.
+    pub fn commit(mut self) -> Result<(), OutputError> {
+        let (special, regular): (Vec<Staged>, Vec<Staged>) =
+            std::mem::take(&mut self.staged).into_iter().partition(|s| matches!(s, Staged::Written { .. }));
+        let mut directories: Vec<PathBuf> = Vec::new();
+        for staged in special.into_iter().chain(regular) {
+            match staged {
+                Staged::Written { bytes, target } => {
+                    let io = |source| OutputError::Io { path: target.display().to_string(), source };
+                    let mut file = OpenOptions::new().write(true).open(&target).map_err(io)?;
+                    file.write_all(&bytes).and_then(|()| file.flush()).map_err(io)?;
+                }
+                Staged::Renamed { temporary, target } => {
+                    std::fs::rename(&temporary.path, &target)
+                        .map_err(|source| OutputError::Io { path: target.display().to_string(), source })?;
+                    temporary.keep();
+                    let dir = target.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
+                    if !directories.iter().any(|d| d == dir) {
+                        directories.push(dir.to_owned());
+                    }
+                }
+            }
+        }
+        // Best effort: makes the renames durable; some file systems refuse fsync on directories.
+        for dir in directories {
+            if let Ok(dir) = File::open(dir) {
+                let _ = dir.sync_all();
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Writes a single output (see [`Outputs`]).
+pub fn write_file(
+    path: &Path,
+    encode: impl FnOnce(&mut Sink) -> Result<(), OutputError>,
+) -> Result<(), OutputError> {
+    let mut outputs = Outputs::new();
+    outputs.stage(path, encode)?;
+    outputs.commit()
+}
+
+/// Writes `text` to `path` (see [`Outputs`]).
+pub fn write_text(path: &Path, text: &str) -> Result<(), OutputError> {
+    write_file(path, |sink| text_into(sink, path, text))
+}
+
+/// Writes `text` into a sink, errors naming `path`.
+pub fn text_into(sink: &mut Sink, path: &Path, text: &str) -> Result<(), OutputError> {
+    sink.write_all(text.as_bytes())
+        .map_err(|source| OutputError::Io { path: path.display().to_string(), source })
+}
+
+/// Whether two destinations are the same file: the same inode where both exist, else the same
+/// absolute path once symbolic links in their existing ancestors are resolved.
+pub fn same_file(a: &Path, b: &Path) -> bool {
+    identity(a) == identity(b)
+}
+
+fn identity(path: &Path) -> PathBuf {
+    if let Ok(real) = std::fs::canonicalize(path) {
+        return real;
+    }
+    let mut rest = Vec::new();
+    let mut ancestor = path.to_path_buf();
+    loop {
+        if let Ok(real) = std::fs::canonicalize(&ancestor) {
+            return rest.iter().rev().fold(real, |p: PathBuf, c: &std::ffi::OsString| p.join(c));
+        }
+        match (ancestor.file_name().map(|n| n.to_owned()), ancestor.parent()) {
+            (Some(name), Some(parent)) => {
+                rest.push(name);
+                ancestor = if parent.as_os_str().is_empty() { PathBuf::from(".") } else { parent.to_owned() };
+            }
+            _ => return path.to_owned(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn io_error(message: &str) -> OutputError {
+        OutputError::Io { path: "x".into(), source: std::io::Error::other(message.to_owned()) }
+    }
+
+    fn entries(dir: &Path) -> Vec<String> {
+        let mut names: Vec<String> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        names
+    }
+
+    #[test]
+    fn failed_write_leaves_no_file_and_the_old_one_intact() {
+        let dir = tempfile::tempdir().unwrap();
+        let target = dir.path().join("image.exr");
+        std::fs::write(&target, b"previous").unwrap();
+        let result = write_file(&target, |sink| {
+            sink.write_all(b"partial").unwrap();
+            Err(io_error("simulated encoder failure"))
+        });
+        assert!(result.is_err());
+        assert_eq!(entries(dir.path()), ["image.exr"]);
+        assert_eq!(std::fs::read(&target).unwrap(), b"previous");
+    }
+
+    /// A write error inside the encoder (here the sink of a full disk is simulated by an
+    /// encoder that fails after writing) must not leave the temporary file, and a later output's
+    /// failure must leave none of the earlier staged ones either.
+    #[test]
+    fn png_enospc_reports_success_fails_the_whole_set() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut outputs = Outputs::new();
+        outputs.stage(&dir.path().join("a.exr"), |sink| text_into(sink, Path::new("a"), "exr")).unwrap();
+        let failed = outputs.stage(&dir.path().join("a.png"), |sink| {
+            sink.write_all(b"\x89PNG").unwrap();
+            Err(OutputError::Io {
+                path: "a.png".into(),
+                source: std::io::Error::from_raw_os_error(28), // ENOSPC
+            })
+        });
+        assert!(failed.is_err());
+        drop(outputs);
+        assert!(entries(dir.path()).is_empty(), "{:?}", entries(dir.path()));
+    }
+
+    #[test]
+    fn staged_outputs_land_together_under_their_names() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut outputs = Outputs::new();
+        for name in ["sub/a.exr", "sub/a.png"] {
+            outputs.stage(&dir.path().join(name), |sink| text_into(sink, Path::new(name), name)).unwrap();
+        }
+        assert!(!dir.path().join("sub/a.exr").exists(), "nothing lands before the commit");
+        outputs.commit().unwrap();
+        assert_eq!(entries(&dir.path().join("sub")), ["a.exr", "a.png"]);
+        assert_eq!(std::fs::read_to_string(dir.path().join("sub/a.png")).unwrap(), "sub/a.png");
+    }
+
+    #[test]
+    fn interrupt_during_write_leaves_tmp_is_cleaned_by_the_registry() {
+        let dir = tempfile::tempdir().unwrap();
+        let target = dir.path().join("big.exr");
+        let _ = write_file(&target, |sink| {
+            sink.write_all(b"half an image").unwrap();
+            sink.flush().unwrap();
+            assert_eq!(entries(dir.path()).len(), 1, "the temporary file exists while writing");
+            // What the Ctrl-C handler does before exiting:
+            remove_temporaries();
+            assert!(entries(dir.path()).is_empty(), "the handler removed it");
+            Err(io_error("interrupted"))
+        });
+        assert!(entries(dir.path()).is_empty());
+    }
+
+    #[test]
+    fn directories_and_empty_paths_are_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        for path in [
+            dir.path().to_path_buf(),
+            PathBuf::from("."),
+            PathBuf::from(".."),
+            PathBuf::from("out/"),
+            PathBuf::new(),
+        ] {
+            let error = check_destination(&path).expect_err("not a file");
+            assert!(matches!(error, OutputError::Destination { .. }), "{path:?}: {error}");
+        }
+        let file = dir.path().join("f");
+        std::fs::write(&file, "x").unwrap();
+        assert!(check_destination(&file.join("under_a_file.exr")).is_err());
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn output_to_device_replaces_it_no_more() {
+        // /dev/null is a character device: written in place, never renamed over.
+        assert_eq!(
+            check_destination(Path::new("/dev/null")).unwrap(),
+            Destination::Special("/dev/null".into())
+        );
+        write_text(Path::new("/dev/null"), "discarded").unwrap();
+        let meta = std::fs::metadata("/dev/null").unwrap();
+        assert!(!meta.is_file(), "/dev/null is still a device");
+    }
+
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn a_full_device_fails_the_write() {
+        // /dev/full refuses every write with ENOSPC: the error must surface at the commit.
+        let error = write_text(Path::new("/dev/full"), "x").expect_err("ENOSPC");
+        assert!(error.to_string().contains("/dev/full"), "{error}");
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_symbolic_link_is_followed_and_kept() {
+        let dir = tempfile::tempdir().unwrap();
+        let real = dir.path().join("real.exr");
+        std::fs::write(&real, "old").unwrap();
+        let link = dir.path().join("link.exr");
+        std::os::unix::fs::symlink(&real, &link).unwrap();
+        write_text(&link, "new").unwrap();
+        assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
+        assert_eq!(std::fs::read_to_string(&real).unwrap(), "new");
+    }
+
+    #[test]
+    fn same_file_sees_through_spellings() {
+        let dir = tempfile::tempdir().unwrap();
+        let a = dir.path().join("x.exr");
+        let b = dir.path().join("sub/../x.exr");
+        std::fs::create_dir(dir.path().join("sub")).unwrap();
+        assert!(same_file(&a, &b));
+        assert!(!same_file(&a, &dir.path().join("x.png")));
+    }
+}
