@@ -29,6 +29,10 @@ pub enum FaultArg {
     FlippedPhase,
     /// Polarisation dropped: each interface's reflectance averaged over s and p.
     Unpolarized,
+    /// The light tracer scales flux at refractions as radiance is scaled (1/η² per refraction).
+    LightRadianceScaling,
+    /// The light tracer misses the cosine at the diffuse receiver toward the camera.
+    NoReceiverCosine,
 }
 
 /// Arguments of `prisma validate`.
@@ -65,6 +69,8 @@ pub fn run(args: &ValidateArgs) -> Result<(), CliError> {
         FaultArg::TransposedRotation => Fault::TransposedRotation,
         FaultArg::FlippedPhase => Fault::FlippedPhase,
         FaultArg::Unpolarized => Fault::Unpolarized,
+        FaultArg::LightRadianceScaling => Fault::LightPathRadianceScaling,
+        FaultArg::NoReceiverCosine => Fault::NoReceiverCosine,
     });
     let threads = args.threads.unwrap_or(0) as usize;
     let mitsuba_cases = cases::load(&args.dir).map_err(|e| CliError::Input(e.into()))?;
