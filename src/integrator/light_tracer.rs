@@ -176,7 +176,7 @@ impl<'a> LightTracer<'a> {
             * wavelengths.active_mask()
             * emitted.weight;
         let reference = flux.max_value();
-        if !(reference > 0.0) {
+        if reference.is_nan() || reference <= 0.0 {
             return;
         }
         scratch.stack.clear();
@@ -280,7 +280,7 @@ impl<'a> LightTracer<'a> {
         rng: &mut PixelRng,
     ) {
         let strength = flux.components()[0].max_value() / reference;
-        if !(strength > 0.0) {
+        if strength.is_nan() || strength <= 0.0 {
             return;
         }
         let mut flux = flux;
@@ -382,7 +382,7 @@ impl<'a> LightTracer<'a> {
         let reflected_flux = total(&reflected);
         let refracted_flux: f32 = refracted.iter().flatten().map(|(_, beam)| total(beam)).sum();
         let all = reflected_flux + refracted_flux;
-        if !(all > 0.0) {
+        if all.is_nan() || all <= 0.0 {
             return;
         }
         let p_reflect = reflected_flux / all;
