@@ -104,3 +104,10 @@ fn an_index_one_percent_too_high_moves_the_caustics() {
         assert!(!passes(name, Some(Fault::IorScale(1.01))), "{name} did not catch the fault");
     }
 }
+
+/// The light tracer carries polarisation through the prism: the flux in the spectral lines is
+/// ½(T_s1·T_s2 + T_p1·T_p2) of the beam's, 3.3 % more than the s/p-averaged product.
+#[test]
+fn polarisation_off_dims_the_newton_lines() {
+    assert!(!passes("newton_lines", Some(Fault::Unpolarized)));
+}
