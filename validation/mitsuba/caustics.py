@@ -55,6 +55,7 @@ CASES_FILE = "caustic_cases.toml"
 # longer averages out: one pass of 4096 spp left the 9 focus pixels 1 % low (measured against
 # prisma's f64 sums and against passes of 256 spp), passes of 512 spp agree. The prism's band
 # spreads its light over thousands of pixels and is rendered in one pass.
+PTRACER = {"type": "ptracer", "max_depth": -1, "rr_depth": 64, "hide_emitters": False}
 MITSUBA_SETTINGS = {
     **{f"caustic_sphere_{nm}": dict(variant="llvm_ad_mono", spp_per_pass=512, passes=8)
        for nm in (450, 550, 650)},
