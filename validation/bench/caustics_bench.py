@@ -84,8 +84,10 @@ def main():
     points = []
     for spp in (1, 2, 4, 8, 16, 32, 64, 128, 256):
         exr, stats = out / f"prisma_{spp}.exr", out / f"prisma_{spp}.json"
+        # Unpolarised, as Mitsuba's plain variant and the references.
         subprocess.run([prisma, "render", str(SCENE), "--wavelength", str(WAVELENGTH), "--spp", str(spp),
-                        "--seed", "17", "-o", str(exr), "--quiet", "--stats", str(stats)], check=True)
+                        "--unpolarized", "--seed", "17", "-o", str(exr), "--quiet", "--stats", str(stats)],
+                       check=True)
         seconds = json.loads(stats.read_text())["render_seconds"]
         error = rel_mse(load(exr), reference, mask) - noise
         points.append((seconds, error))
@@ -126,12 +128,12 @@ def main():
 
 def newton(prisma, out):
     """scenes/newton_prism.toml at 800×450: time to relMSE 1e-3 (linear sRGB, bench.py's
-    definition) against a long prisma render (64 spp with 4× the light paths per pass: 102 M
-    light paths), less that render's own noise (estimated from a second long render is too
-    costly here: its noise is bounded by 1/16 of the 16-spp render's, which the table states)."""
+    definition) against a long prisma render (16 spp with 4× the scene's light paths per pass:
+    25.6 M light paths, 16× the 1-spp render's), whose own noise is not subtracted (it adds
+    about 1/16 of the 1-spp render's relMSE)."""
     scene = ROOT / "scenes" / "newton_prism.toml"
     long_exr = out / "newton_long.exr"
-    subprocess.run([prisma, "render", str(scene), "--spp", "64", "--light-paths", "1600000", "--seed", "99",
+    subprocess.run([prisma, "render", str(scene), "--spp", "16", "--light-paths", "1600000", "--seed", "99",
                     "-o", str(long_exr), "--quiet"], check=True)
     mi.set_variant("scalar_rgb")
     reference = rgb(long_exr)
