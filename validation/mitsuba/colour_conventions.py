@@ -90,7 +90,7 @@ def main():
     print("2. CMF tables, max |Mitsuba − prisma| at the 1 nm points (x̄, ȳ, z̄):",
           np.abs(cmf_m - cmf_p).max(axis=0).round(5), "; ∫ȳ prisma", round(np.trapezoid(cmf_p[:, 1], cmf_nm), 6))
     m_prisma = srgb_matrix_from_primaries()
-    m_mitsuba = np.array([list(mi.xyz_to_srgb(mi.Color3f(*e))) for e in np.identity(3)]).T
+    m_mitsuba = np.array([list(mi.xyz_to_srgb(mi.Color3f(*map(float, e)))) for e in np.identity(3)]).T
     print("   XYZ→sRGB, max |Mitsuba − from primaries| =", f"{np.abs(m_mitsuba - m_prisma).max():.2e}")
 
     # 3. The emitters of color_emitters.toml.
@@ -108,7 +108,8 @@ def main():
         print(f"   {name:22s} XYZ prisma {xyz_p.round(5)}  RGB prisma {rgb_p.round(5)}  RGB Mitsuba {rgb_m.round(5)}"
               f"  ratio {(rgb_p / rgb_m).round(4)}")
     mi.set_variant("scalar_spectral")
-    upsampled = mi.load_dict({"type": "srgb_d65", "color": [0.8, 0.3, 0.1]})
+    # Mitsuba 3.9 names the RGB-emitter spectrum plugin "d65" (older releases: "srgb_d65").
+    upsampled = mi.load_dict({"type": "d65", "color": [0.8, 0.3, 0.1]})
     si = mi.SurfaceInteraction3f()
     values = []
     for lam in grid:

@@ -10,6 +10,15 @@
    max_depth = 0 (prisma counts specular bounces).
 4. The spectral variant: the plane of check 1 in XYZ, Y = I·ρ/π·cos θ/d² for a constant
    spectrum of value 1 (Y of an equal-energy spectrum of 1 is 1).
+5. Polarised (llvm_ad_mono_polarized, inside Mitsuba's `stokes`): the plane of check 1 seen
+   directly is unpolarised (S1 = S2 = S3 = 0 exactly: the diffuse BSDF depolarises) with S0 as
+   in check 1.
+6. Polarised: a Lambertian ceiling lit by a point light, seen in a glass floor (n = 1.5) by a
+   camera looking at Brewster's angle. Per ray, S0 = ½(Rs + Rp)·L, and (S1, S2) =
+   ½(Rs − Rp)·L·(cos 2ψ, sin 2ψ), L the Lambertian radiance of the ceiling point the reflected ray
+   meets and ψ the angle of the s direction (normal × d) in the Stokes frame of `stokes`
+   (x = d × camera up, y = (−d) × x); S3 = 0. The plane of incidence turns across the image, so
+   this checks the Mueller product and every frame rotation, on the direct-light path.
 
 The expected radiance of a pixel is the mean of the analytic radiance over 16×16 points of the
 pixel, found on the plane through Mitsuba's camera rays (the camera is not under test). Mono
@@ -54,6 +63,41 @@ def camera():
                  "component_format": "float32"},
         "sampler": {"type": "independent", "sample_count": SPP},
     }
+
+
+def stokes_render(scene_dict, sensor, max_depth=4):
+    """(S image (H, W, 4), its per-pixel standard error, the scene) from whitted in `stokes`."""
+    scene = mi.load_dict(dict(scene_dict, type="scene", sensor=sensor,
+                              integrator={"type": "stokes", "integrator": {"type": "whitted", "max_depth": max_depth}}))
+    passes = []
+    for k in range(PASSES):
+        image = np.array(mi.render(scene, spp=SPP // PASSES, seed=100 + k), dtype=np.float64)
+        bitmap = scene.sensors()[0].film().bitmap()
+        names = [bitmap.struct_()[i].name for i in range(image.shape[-1])]
+        passes.append(np.stack([image[..., names.index(f"S{i}.R")] for i in range(4)], axis=-1))
+    passes = np.stack(passes)
+    return passes.mean(axis=0), passes.std(axis=0, ddof=1) / np.sqrt(PASSES), scene
+
+
+def sub_rays(scene, subpixels):
+    """Origins and directions (H, W, S, 3) of subpixels² rays per pixel, and the camera's up."""
+    sensor = scene.sensors()[0]
+    s = (np.arange(subpixels) + 0.5) / subpixels
+    py, px, sy, sx = np.meshgrid(np.arange(HEIGHT), np.arange(WIDTH), s, s, indexing="ij")
+    u = ((px + sx) / WIDTH).ravel()
+    v = ((py + sy) / HEIGHT).ravel()
+    rays, _ = sensor.sample_ray(0.0, 0.5, mi.Point2f(u, v), mi.Point2f(0.5, 0.5))
+    shape = (HEIGHT, WIDTH, subpixels * subpixels, 3)
+    m = np.array(sensor.world_transform().matrix, dtype=np.float64).reshape(4, 4, -1)[..., 0]
+    return np.array(rays.o).T.reshape(shape), np.array(rays.d).T.reshape(shape), m[:3, 1] / np.linalg.norm(m[:3, 1])
+
+
+def fresnel_rs_rp(cos_i, n):
+    """Rs, Rp of a dielectric of index n seen from outside (numpy, float64)."""
+    cos_t = np.sqrt(1.0 - (1.0 - cos_i**2) / n**2)
+    rs = ((cos_i - n * cos_t) / (cos_i + n * cos_t)) ** 2
+    rp = ((n * cos_i - cos_t) / (n * cos_i + cos_t)) ** 2
+    return rs, rp
 
 
 def plane(half_size=3.0):
@@ -239,6 +283,69 @@ def main():
     rendered, stderr, scene = render(scene_dict)
     expected = pixel_mean(point_light_expected(plane_points(scene), sphere=False))
     results.append(report("spectral: Y of the same plane (equal-energy spectra)", rendered, stderr, expected, 1e-4))
+
+    # 5. Polarised: a diffuse plane seen directly is unpolarised.
+    mi.set_variant("llvm_ad_mono_polarized")
+    importlib.reload(whitted)
+    scene_dict = {"plane": plane(),
+                  "light": {"type": "point", "position": POINT_LIGHT.tolist(),
+                            "intensity": {"type": "uniform", "value": INTENSITY}}}
+    S, S_err, scene = stokes_render(scene_dict, camera())
+    expected = pixel_mean(point_light_expected(plane_points(scene), sphere=False))
+    results.append(report("polarised: S0 of the plane of check 1", S[..., 0], S_err[..., 0], expected, 1e-4))
+    ok = bool(np.all(S[..., 1:] == 0.0))
+    print(f"{'PASS' if ok else 'FAIL'} polarised: the diffuse plane is unpolarised, max |S1,S2,S3| = "
+          f"{np.abs(S[..., 1:]).max():.1e}")
+    results.append(ok)
+
+    # 6. Polarised: a lit Lambertian ceiling (y = 2) seen in a glass floor (y = 0) at Brewster.
+    n_glass = 1.5
+    theta_b = np.arctan(n_glass)
+    eye = np.array([0.0, 1.0, -1.0 / np.cos(theta_b) * np.sin(theta_b)])
+    lamp = np.array([0.3, 1.5, 2.5])
+    sensor = dict(camera(), to_world=mi.ScalarTransform4f().look_at(origin=eye.tolist(), target=[0.0, 0.0, 0.0],
+                                                                    up=[0.0, 1.0, 0.0]))
+    sensor["fov"] = 40.0
+    glass_floor = {"type": "rectangle",
+                   "to_world": mi.ScalarTransform4f().rotate([1, 0, 0], -90).scale([40.0, 40.0, 1]),
+                   "bsdf": {"type": "dielectric", "int_ior": n_glass, "ext_ior": 1.0}}
+    ceiling = {"type": "rectangle",
+               "to_world": mi.ScalarTransform4f().translate([0, 2.0, 0]).rotate([1, 0, 0], 90).scale([40.0, 40.0, 1]),
+               "bsdf": {"type": "twosided", "bsdf": {"type": "diffuse", "reflectance": {"type": "uniform", "value": ALBEDO}}}}
+    scene_dict = {"floor": glass_floor, "ceiling": ceiling,
+                  "light": {"type": "point", "position": lamp.tolist(),
+                            "intensity": {"type": "uniform", "value": INTENSITY}}}
+    S, S_err, scene = stokes_render(scene_dict, sensor)
+    o, d, up = sub_rays(scene, 8)
+    t = -o[..., 1] / d[..., 1]
+    cos_i = -d[..., 1]
+    rs, rp = fresnel_rs_rp(cos_i, n_glass)
+    r = d * np.array([1.0, -1.0, 1.0])
+    hit = o + t[..., None] * d
+    q = hit + ((2.0 - hit[..., 1]) / r[..., 1])[..., None] * r
+    to_lamp = lamp - q
+    dist2 = np.sum(to_lamp**2, axis=-1)
+    radiance = INTENSITY * ALBEDO / np.pi * (-to_lamp[..., 1] / np.sqrt(dist2)) / dist2
+    x = np.cross(d, up)
+    x /= np.linalg.norm(x, axis=-1, keepdims=True)
+    y = np.cross(-d, x)
+    s_dir = np.cross(d, [0.0, 1.0, 0.0])
+    psi = np.arctan2(np.sum(s_dir * y, -1), np.sum(s_dir * x, -1))
+    expected = np.stack([0.5 * (rs + rp) * radiance, 0.5 * (rs - rp) * radiance * np.cos(2 * psi),
+                         0.5 * (rs - rp) * radiance * np.sin(2 * psi), 0.0 * radiance], axis=-1).mean(axis=2)
+    for i in range(3):
+        error = np.abs(S[..., i] - expected[..., i])
+        ok = bool(np.all(error <= 5.0 * S_err[..., i] + 1e-4 * expected[..., 0]))
+        print(f"{'PASS' if ok else 'FAIL'} polarised: S{i} of a lit ceiling seen in glass at Brewster's angle: "
+              f"{error.size} pixels, max |diff|/S0 {(error / expected[..., 0]).max():.2e}, "
+              f"{100 * np.mean(error <= 3.0 * S_err[..., i]):.1f}% within 3σ")
+        results.append(ok)
+    ok = bool(np.all(np.abs(S[..., 3]) <= 1e-6 * S[..., 0]))
+    print(f"{'PASS' if ok else 'FAIL'} polarised: S3 of that reflection is 0: max |S3|/S0 = "
+          f"{np.max(np.abs(S[..., 3]) / np.maximum(S[..., 0], 1e-30)):.1e}")
+    results.append(ok)
+    c = (HEIGHT // 2, WIDTH // 2)
+    print(f"      centre pixel: S/S0 = {np.round(S[c] / S[c][0], 4)}, expected {np.round(expected[c] / expected[c][0], 4)}")
 
     print("all checks passed" if all(results) else "SOME CHECKS FAILED")
     return 0 if all(results) else 1

@@ -13,6 +13,16 @@ Along a camera path:
   mirrors, glass and the quads of lights block shadow rays as in prisma. The background never
   lights a diffuse surface (in Whitted's model it is not a light).
 
+In polarised variants (mi.Spectrum is a Mueller matrix) it does what Mitsuba's `path.cpp` does:
+every BSDF value, sampled or evaluated, is turned from its local frames into the implicit world
+Stokes frames with `si.to_world_mueller(value, -wo, si.wi)` (light arrives along -wo and leaves
+along wi), and the throughput is the product of those Mueller matrices with the newest on the
+right, so that `throughput * emitted` is the Stokes vector reaching the camera along the ray
+(in the frame stokes_basis(-ray.d)). Emitters are unpolarised; the diffuse BSDF depolarises.
+Wrap it in Mitsuba's `stokes` integrator to get the Stokes channels in the camera's frame. In
+unpolarised variants `to_world_mueller` is the identity and the products are plain, so both
+modes run the same code.
+
 Parameters:
   max_depth   int, default 16: maximum number of specular bounces, prisma's `max_depth`.
 
@@ -49,7 +59,8 @@ class Whitted(mi.SamplingIntegrator):
             lit &= ~scene.ray_test(si.spawn_ray_to(ds.p), lit)
             # Mitsuba's BSDF value includes the foreshortening |cos θ| (twosided diffuse: ρ/π·cos θ
             # on the side the view ray arrives on, zero across the surface).
-            f = bsdf.eval(ctx, si, si.to_local(ds.d), lit)
+            wo = si.to_local(ds.d)
+            f = si.to_world_mueller(bsdf.eval(ctx, si, wo, lit), -wo, si.wi)
             result += dr.select(lit, f * spec, 0.0)
         return result
 
@@ -79,10 +90,12 @@ class Whitted(mi.SamplingIntegrator):
             # Specular: follow the sampled delta lobe while bounces remain.
             specular = active & delta & (bounces < self.max_depth)
             bs, weight = bsdf.sample(ctx, si, sampler.next_1d(specular), sampler.next_2d(specular), specular)
-            throughput[specular] *= weight
+            weight = si.to_world_mueller(weight, -bs.wo, si.wi)
+            # The newest interaction on the right (a Mueller product in polarised variants).
+            throughput = dr.select(specular, throughput * weight, throughput)
             ray[specular] = si.spawn_ray(si.to_world(bs.wo))
             bounces[specular] += 1
-            active = specular & dr.any(throughput != 0.0)
+            active = specular & dr.any(mi.unpolarized_spectrum(throughput) != 0.0)
 
         return radiance, mi.Bool(True), []
 
