@@ -180,12 +180,13 @@ def render_case(case, settings, out_dir, prisma, quick, command):
     renders = []
     for seed in SEEDS:
         start = time.perf_counter()
-        mean, stack, channels = translate.render(mitsuba_scene, spp_per_pass, seed, passes)
+        mean, variance, channels = translate.render(mitsuba_scene, spp_per_pass, seed, passes)
         seconds = time.perf_counter() - start
         if channels != case["channels"]:
             raise SystemExit(f"{name}: Mitsuba wrote channels {channels}, {CASES_FILE} compares {case['channels']}")
         mean *= fix
-        stderr = fix * (stack.std(axis=0, ddof=1) / np.sqrt(passes) if passes > 1 else np.zeros_like(mean))
+        # The standard error of the mean from the passes (none with one pass: zeros).
+        stderr = fix * np.sqrt(np.nan_to_num(variance, nan=0.0))
         path = out_dir / f"{name}_seed{seed}.exr"
         translate.write_exr(path, mean, channels)
         translate.write_exr(out_dir / f"{name}_seed{seed}_stderr.exr", stderr, channels)
