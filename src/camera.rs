@@ -33,6 +33,22 @@ pub struct Camera {
     height: u32,
 }
 
+/// A point seen by the camera, as [`Camera::project`] finds it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FilmPoint {
+    /// Row-major index of the pixel it lands in.
+    pub pixel: u32,
+    /// Unit direction from the point to the camera.
+    pub to_camera: Vec3,
+    /// Distance from the point to the camera.
+    pub distance: f32,
+    /// The radiance that pixel reads (box filter) per unit of radiant intensity (W·sr⁻¹)
+    /// leaving the point toward the camera: 1/(d²·A_pixel·cos³θ), with A_pixel a pixel's area
+    /// on the image plane at unit distance and θ the angle off the optical axis (a pixel there
+    /// spans the solid angle A_pixel·cos³θ). Per unit area (m⁻²·sr⁻¹ per W·sr⁻¹).
+    pub sensitivity: f32,
+}
+
 /// Why a camera is degenerate.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum CameraError {
@@ -126,6 +142,35 @@ impl Camera {
         Ray::new(self.position, dir)
     }
 
+    /// Where the light leaving `point` toward the camera lands on the film, if it does (the
+    /// point lies in front of the camera and projects inside the image); for the light tracer.
+    pub fn project(&self, point: Vec3) -> Option<FilmPoint> {
+        let offset = point - self.position;
+        let depth = offset.dot(self.forward);
+        let distance_sq = offset.length_squared();
+        if !(depth > 0.0 && distance_sq.is_finite()) {
+            return None;
+        }
+        let (right_sq, up_sq) = (self.right_scaled.length_squared(), self.up_scaled.length_squared());
+        let ndc_x = offset.dot(self.right_scaled) / (depth * right_sq);
+        let ndc_y = offset.dot(self.up_scaled) / (depth * up_sq);
+        let x = (ndc_x + 1.0) * 0.5 * self.width as f32;
+        let y = (1.0 - ndc_y) * 0.5 * self.height as f32;
+        if !(x >= 0.0 && x < self.width as f32 && y >= 0.0 && y < self.height as f32) {
+            return None;
+        }
+        let distance = distance_sq.sqrt();
+        let cos_theta = depth / distance;
+        // A pixel's solid angle at the film centre: its area on the image plane at unit distance.
+        let pixel_area = 4.0 * (right_sq * up_sq).sqrt() / (self.width as f32 * self.height as f32);
+        Some(FilmPoint {
+            pixel: (x as u32).min(self.width - 1) + (y as u32).min(self.height - 1) * self.width,
+            to_camera: -offset / distance,
+            distance,
+            sensitivity: 1.0 / (distance_sq * pixel_area * cos_theta * cos_theta * cos_theta),
+        })
+    }
+
     /// The x axis of the Stokes frame in which the light arriving along a camera ray of
     /// direction `dir` is recorded: normalize(dir × up), with `up` the camera's unit up vector.
     /// It is the image's right for the central ray, as in Mitsuba 3's `stokes` integrator, and
@@ -177,6 +222,38 @@ mod tests {
             Camera::look_at(Vec3::ZERO, Vec3::Z, Vec3::Y, 180.0, 1, 1),
             Err(CameraError::FieldOfView(180.0))
         );
+    }
+
+    /// `project` inverts `ray`, and its sensitivity is what a pixel reads of a small patch:
+    /// a patch of area a and radiance L facing the camera has intensity J = L·a; the pixel
+    /// that sees it whole reads L·(a/d²)/Ω_pixel, so sensitivity = 1/(d²·Ω_pixel), with the
+    /// pixel's solid angle Ω_pixel computed here from its four corner rays.
+    #[test]
+    fn project_inverts_ray_and_gives_the_pixel_solid_angle() {
+        let camera = Camera::look_at(Vec3::ZERO, Vec3::Z, Vec3::Y, 50.0, 64, 48).unwrap();
+        for (x, y) in [(10.5f32, 40.5f32), (32.5, 24.5), (63.5, 0.5)] {
+            let ray = camera.ray(x, y);
+            let point = ray.at(7.0);
+            let seen = camera.project(point).unwrap();
+            assert_eq!(seen.pixel, x as u32 + (y as u32) * 64);
+            assert!((seen.distance - 7.0).abs() < 1e-4);
+            assert!((seen.to_camera + ray.dir).length() < 1e-5);
+            // The solid angle of the pixel, as two spherical triangles (van Oosterom–Strackee).
+            let (px, py) = (x.floor(), y.floor());
+            let corners = [(px, py), (px + 1.0, py), (px + 1.0, py + 1.0), (px, py + 1.0)]
+                .map(|(a, b)| camera.ray(a, b).dir);
+            let triangle = |a: Vec3, b: Vec3, c: Vec3| {
+                let numerator = a.dot(b.cross(c)).abs();
+                let denominator = 1.0 + a.dot(b) + b.dot(c) + c.dot(a);
+                2.0 * numerator.atan2(denominator)
+            };
+            let omega =
+                triangle(corners[0], corners[1], corners[2]) + triangle(corners[0], corners[2], corners[3]);
+            let expected = 1.0 / (49.0 * omega);
+            assert!((seen.sensitivity / expected - 1.0).abs() < 1e-3, "{} vs {expected}", seen.sensitivity);
+        }
+        assert!(camera.project(Vec3::new(0.0, 0.0, -1.0)).is_none(), "behind the camera");
+        assert!(camera.project(Vec3::new(10.0, 0.0, 1.0)).is_none(), "outside the image");
     }
 
     #[test]

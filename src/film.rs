@@ -140,6 +140,112 @@ pub struct NonFinitePixel {
     pub xyz: Vec3,
 }
 
+/// The light tracer's contributions of one block of light paths, in the order they were made:
+/// per splat, the pixel and the same values a camera sample adds to [`PixelSums`] (XYZ per
+/// Stokes component, then band estimates), each an estimate for one light path (not yet divided
+/// by the number of paths).
+#[derive(Debug, Clone, Default)]
+pub struct Splats {
+    pixels: Vec<u32>,
+    values: Vec<f32>,
+}
+
+impl Splats {
+    /// Values per splat for `layout`.
+    fn stride(layout: &FilmLayout) -> usize {
+        3 * layout.components() + layout.band_values()
+    }
+
+    /// Number of splats held.
+    pub fn len(&self) -> usize {
+        self.pixels.len()
+    }
+
+    /// True when there are none.
+    pub fn is_empty(&self) -> bool {
+        self.pixels.is_empty()
+    }
+
+    /// Adds the light `beam` (radiance at the camera, per lane) that lands in pixel `pixel`.
+    pub fn add<B: Beam>(
+        &mut self,
+        pixel: u32,
+        beam: &B,
+        wavelengths: &SampledWavelengths,
+        layout: &FilmLayout,
+    ) {
+        self.pixels.push(pixel);
+        for component in beam.components() {
+            self.values.extend_from_slice(&cie::to_xyz(component, wavelengths).to_array());
+        }
+        let Some(bands) = &layout.bands else { return };
+        let start = self.values.len();
+        self.values.resize(start + layout.band_values(), 0.0);
+        let active = wavelengths.active();
+        let scale = 1.0 / (active as f32 * bands.width_nm());
+        for lane in 0..active {
+            let Some(band) = bands.band_of(wavelengths.lambda_nm(lane)) else { continue };
+            let inverse_pdf = if wavelengths.is_monochromatic() {
+                bands.width_nm()
+            } else {
+                1.0 / wavelengths.pdf_per_nm(lane)
+            };
+            for (k, component) in beam.components().iter().enumerate() {
+                self.values[start + k * bands.count + band] += component[lane] * inverse_pdf * scale;
+            }
+        }
+    }
+}
+
+/// Every pixel's sum of light-tracer splats, in f64, added block by block in block order so
+/// that the sums do not depend on which thread traced which block.
+#[derive(Debug, Clone)]
+pub struct SplatSums {
+    stride: usize,
+    sums: Vec<f64>,
+}
+
+impl SplatSums {
+    /// Zero sums for `pixels` pixels of `layout`.
+    pub fn new(pixels: usize, layout: &FilmLayout) -> Self {
+        let stride = Splats::stride(layout);
+        Self { stride, sums: vec![0.0; pixels * stride] }
+    }
+
+    /// Adds one block's splats, in their order.
+    pub fn add(&mut self, splats: &Splats) {
+        for (pixel, values) in splats.pixels.iter().zip(splats.values.chunks_exact(self.stride)) {
+            let start = *pixel as usize * self.stride;
+            for (sum, value) in self.sums[start..start + self.stride].iter_mut().zip(values) {
+                *sum += f64::from(*value);
+            }
+        }
+    }
+
+    /// Adds the means over `paths` light paths to `pixels` (the camera side's means, row-major).
+    /// Pixels and values no splat reached are left untouched, bit for bit.
+    pub fn add_to(&self, pixels: &mut [PixelMeans], paths: u64, layout: &FilmLayout) {
+        let n = paths as f64;
+        let components = layout.components();
+        for (means, sums) in pixels.iter_mut().zip(self.sums.chunks_exact(self.stride)) {
+            for k in 0..components {
+                let xyz = if k == 0 { &mut means.xyz } else { &mut means.stokes_xyz[k - 1] };
+                for c in 0..3 {
+                    let sum = sums[3 * k + c];
+                    if sum != 0.0 {
+                        xyz[c] += (sum / n) as f32;
+                    }
+                }
+            }
+            for (band, sum) in means.bands.iter_mut().zip(&sums[3 * components..]) {
+                if *sum != 0.0 {
+                    *band += (sum / n) as f32;
+                }
+            }
+        }
+    }
+}
+
 /// A finished image: row-major, top row first.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Film {

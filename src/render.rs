@@ -3,14 +3,23 @@
 //! Every camera sample draws its sample values from a sequence keyed by (seed, pixel, sample),
 //! and each pixel's samples are summed in a fixed order, so the image is bit-identical whatever
 //! the thread count and tile schedule.
+//!
+//! With caustics on, the light tracer then traces `spp` passes of light paths (one per pixel per
+//! pass unless the settings say otherwise) in fixed blocks of [`LIGHT_PATH_BLOCK`] paths: each
+//! block draws from its own sample sequence, keyed by (seed, block), and records its splats in
+//! order; the blocks' splats are summed into one film in block order, whichever thread traced
+//! them, and the sums divided by the number of light paths are added to the Whitted image.
 
 use std::time::{Duration, Instant};
 
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 
-use crate::film::{Film, FilmLayout, NonFinitePixel, PixelMeans, PixelSums, SpectralBands};
-use crate::integrator::{Beam, Fault, TraceStats, Whitted};
+use crate::film::{
+    Film, FilmLayout, NonFinitePixel, PixelMeans, PixelSums, SpectralBands, SplatSums, Splats,
+};
+use crate::integrator::light_tracer::Scratch;
+use crate::integrator::{Beam, Fault, LightTracer, TraceStats, Whitted};
 use crate::memory;
 use crate::polarization::Stokes;
 use crate::sampler::{PixelKey, PixelRng};
@@ -21,6 +30,14 @@ use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 const TILE: u32 = 16;
 /// Stack of each render thread: Whitted recursion runs on it, one frame per bounce.
 const THREAD_STACK_BYTES: usize = 64 << 20;
+/// Light paths per block: the unit of parallel work of the light tracer, and of its sample
+/// sequences (a power of two, so that a block's paths are a whole Sobol net).
+pub const LIGHT_PATH_BLOCK: u64 = 4096;
+/// Blocks traced before their splats are summed: bounds the memory the splats take.
+const BLOCKS_PER_WAVE: u64 = 64;
+/// Mixed into the seed of the light paths' sample sequences, so that they are independent of
+/// the camera samples'.
+const LIGHT_PATH_SEED_SALT: u64 = 0x6c69_6768_7470_6174;
 
 /// What to render, beyond the scene.
 #[derive(Debug, Clone)]
@@ -60,7 +77,7 @@ impl Job {
 /// Figures of a finished render.
 #[derive(Debug, Clone, Copy)]
 pub struct RenderStats {
-    /// Rays cast (camera, specular and shadow).
+    /// Rays cast (camera, specular and shadow, light paths and their connections).
     pub rays: u64,
     /// Camera samples taken.
     pub samples: u64,
@@ -68,6 +85,12 @@ pub struct RenderStats {
     pub elapsed: Duration,
     /// Threads used.
     pub threads: usize,
+    /// Light paths traced for caustics (0 without).
+    pub light_paths: u64,
+    /// Rays of the light tracer (included in `rays`).
+    pub light_rays: u64,
+    /// Wall-clock time of the light tracer (included in `elapsed`).
+    pub light_elapsed: Duration,
 }
 
 /// Why a render could not run.
@@ -116,10 +139,18 @@ pub fn render(scene: &Scene, job: &Job) -> Result<(Film, RenderStats), RenderErr
     let tiles: Vec<(u32, u32)> = (0..height.div_ceil(TILE))
         .flat_map(|ty| (0..width.div_ceil(TILE)).map(move |tx| (tx * TILE, ty * TILE)))
         .collect();
-    // Progress in camera samples, not tiles: edge tiles are smaller, and a count of tiles done
-    // overstated the progress of images whose width or height is not a multiple of the tile.
+    let tracer = LightTracer::new(scene, &job.settings, job.monochromatic_nm).with_fault(job.fault);
+    let light_paths = if tracer.why_none().is_none() {
+        job.settings.total_light_paths(u64::from(width) * u64::from(height))
+    } else {
+        0
+    };
+    let blocks = light_paths.div_ceil(LIGHT_PATH_BLOCK);
+    // Progress in camera samples and light paths, not tiles: edge tiles are smaller, and a count
+    // of tiles done overstated the progress of images whose width or height is not a multiple of
+    // the tile. (A light path costs about what a camera sample does.)
     let samples = u64::from(width) * u64::from(height) * u64::from(job.settings.spp);
-    let progress = if job.progress { ProgressBar::new(samples) } else { ProgressBar::hidden() };
+    let progress = if job.progress { ProgressBar::new(samples + light_paths) } else { ProgressBar::hidden() };
     if let Ok(style) =
         ProgressStyle::with_template("{spinner} [{elapsed_precise}] {wide_bar} {percent}% eta {eta}")
     {
@@ -151,7 +182,6 @@ pub fn render(scene: &Scene, job: &Job) -> Result<(Film, RenderStats), RenderErr
             })
             .collect()
     });
-    progress.finish_and_clear();
 
     let mut pixels = vec![PixelMeans::default(); width as usize * height as usize];
     let mut rays = 0;
@@ -163,10 +193,74 @@ pub fn render(scene: &Scene, job: &Job) -> Result<(Film, RenderStats), RenderErr
             pixels[(y0 as usize + row) * width as usize + x0 as usize + column] = means;
         }
     }
-    let stats = RenderStats { rays, samples, elapsed: start.elapsed(), threads };
+
+    let light_start = Instant::now();
+    let mut light_rays = 0;
+    if blocks > 0 {
+        let mut sums = SplatSums::new(pixels.len(), &layout);
+        for wave_start in (0..blocks).step_by(BLOCKS_PER_WAVE as usize) {
+            let wave: Vec<u64> = (wave_start..blocks.min(wave_start + BLOCKS_PER_WAVE)).collect();
+            let traced: Vec<(Splats, TraceStats)> = pool.install(|| {
+                wave.par_iter()
+                    .with_max_len(1)
+                    .map(|&block| {
+                        let traced = if layout.stokes {
+                            trace_block::<Stokes>(&tracer, job, &layout, block, light_paths)
+                        } else {
+                            trace_block::<SampledSpectrum>(&tracer, job, &layout, block, light_paths)
+                        };
+                        progress.inc(LIGHT_PATH_BLOCK.min(light_paths - block * LIGHT_PATH_BLOCK));
+                        traced
+                    })
+                    .collect()
+            });
+            for (splats, stats) in &traced {
+                sums.add(splats);
+                light_rays += stats.rays;
+            }
+        }
+        sums.add_to(&mut pixels, light_paths, &layout);
+    }
+    progress.finish_and_clear();
+    let stats = RenderStats {
+        rays: rays + light_rays,
+        samples,
+        elapsed: start.elapsed(),
+        threads,
+        light_paths,
+        light_rays,
+        light_elapsed: light_start.elapsed(),
+    };
     let film = Film::assemble(width, height, layout, pixels);
     film.check_finite()?;
     Ok((film, stats))
+}
+
+/// Traces light-path block `block` of a render of `light_paths` paths: its splats in path
+/// order, and its counters.
+fn trace_block<B: Beam>(
+    tracer: &LightTracer,
+    job: &Job,
+    layout: &FilmLayout,
+    block: u64,
+    light_paths: u64,
+) -> (Splats, TraceStats) {
+    let first = block * LIGHT_PATH_BLOCK;
+    let count = LIGHT_PATH_BLOCK.min(light_paths - first) as u32;
+    // The block's own sequence: (seed, block) as a "pixel" key no camera pixel can have.
+    let key = PixelKey::new(
+        job.settings.seed ^ LIGHT_PATH_SEED_SALT,
+        block as u32,
+        (1 << 31) | (block >> 32) as u32,
+    );
+    let mut splats = Splats::default();
+    let mut scratch = Scratch::<B>::default();
+    let mut stats = TraceStats::default();
+    for path in 0..count {
+        let mut rng = PixelRng::for_sample(key, path);
+        tracer.trace_path::<B>(&mut rng, layout, &mut splats, &mut scratch, &mut stats);
+    }
+    (splats, stats)
 }
 
 /// The means of every pixel of the tile at (`x0`, `y0`), row-major, carrying beams of type `B`.

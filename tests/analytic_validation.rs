@@ -81,3 +81,33 @@ fn a_flipped_phase_is_caught() {
         assert!(!passes(name, Some(Fault::FlippedPhase)), "{name} did not catch the flipped phase");
     }
 }
+
+/// The light tracer's refraction must carry flux: scaling it like radiance (1/η² per refraction)
+/// shows wherever light leaves glass it did not enter, as from a light inside a glass sphere.
+#[test]
+fn radiance_scaling_on_light_paths_is_caught() {
+    assert!(!passes("caustic_power", Some(Fault::LightPathRadianceScaling)));
+}
+
+/// The cosine at the diffuse receiver toward the camera: without it a wall seen obliquely
+/// appears to receive more power than the light emits.
+#[test]
+fn a_missing_receiver_cosine_is_caught() {
+    assert!(!passes("caustic_power", Some(Fault::NoReceiverCosine)));
+}
+
+/// The caustics' positions depend on the index: the spectral lines of the prism and the ball
+/// lens's focus move with it.
+#[test]
+fn an_index_one_percent_too_high_moves_the_caustics() {
+    for name in ["newton_lines", "ball_lens_focus"] {
+        assert!(!passes(name, Some(Fault::IorScale(1.01))), "{name} did not catch the fault");
+    }
+}
+
+/// The light tracer carries polarisation through the prism: the flux in the spectral lines is
+/// ½(T_s1·T_s2 + T_p1·T_p2) of the beam's, 3.3 % more than the s/p-averaged product.
+#[test]
+fn polarisation_off_dims_the_newton_lines() {
+    assert!(!passes("newton_lines", Some(Fault::Unpolarized)));
+}

@@ -227,3 +227,64 @@ fn missing_scene_file() {
     assert!(stderr.contains("nope.toml"), "{stderr}");
     assert!(!produced);
 }
+
+/// Spot lights and beams: a cone of no angle or more than a half-space, a core wider than the
+/// cone, no axis, no power, a beam of no area: each a one-line error naming the field.
+#[test]
+fn bad_spots_and_beams_are_rejected() {
+    let spot = |fields: &str| {
+        GOOD.replace(
+            "[[lights]]\ntype = \"point\"\nposition = [0, 5, 0]\nintensity = 10",
+            &format!("[[lights]]\ntype = \"spot\"\nposition = [0, 5, 0]\n{fields}"),
+        )
+    };
+    let beam = |fields: &str| {
+        GOOD.replace(
+            "[[lights]]\ntype = \"point\"\nposition = [0, 5, 0]\nintensity = 10",
+            &format!(
+                "[[lights]]\ntype = \"beam\"\ncorner = [0, 5, 0]\nemit = \"edge1_cross_edge2\"\n{fields}"
+            ),
+        )
+    };
+    let good_spot = "look_at = [0, 0, 0]\nintensity = 10\ncutoff_deg = 20";
+    assert!(render_text(&spot(good_spot), &[]).0 == 0, "a good spot renders");
+    for (fields, fragment) in [
+        ("look_at = [0, 0, 0]\nintensity = 10\ncutoff_deg = 0", "lights[0].cutoff_deg"),
+        ("look_at = [0, 0, 0]\nintensity = 10\ncutoff_deg = -5", "lights[0].cutoff_deg"),
+        ("look_at = [0, 0, 0]\nintensity = 10\ncutoff_deg = 180", "lights[0].cutoff_deg"),
+        (
+            "look_at = [0, 0, 0]\nintensity = 10\ncutoff_deg = 20\nbeam_width_deg = 30",
+            "lights[0].beam_width_deg",
+        ),
+        (
+            "look_at = [0, 0, 0]\nintensity = 10\ncutoff_deg = 20\nbeam_width_deg = 0",
+            "lights[0].beam_width_deg",
+        ),
+        ("look_at = [0, 5, 0]\nintensity = 10\ncutoff_deg = 20", "lights[0].look_at"),
+        ("look_at = [0, 0, 0]\nintensity = 0\ncutoff_deg = 20", "lights[0].intensity"),
+        ("look_at = [0, 0, 0]\nintensity = -1\ncutoff_deg = 20", "lights[0].intensity"),
+    ] {
+        let text = spot(fields);
+        assert_rejected(&text, &[fragment, &at_line_of(&text, "[[lights]]")]);
+    }
+    let good_beam = "edge1 = [1, 0, 0]\nedge2 = [0, 0, 1]\nirradiance = 5";
+    assert!(render_text(&beam(good_beam), &[]).0 == 0, "a good beam renders");
+    for (fields, fragment) in [
+        ("edge1 = [1, 0, 0]\nedge2 = [2, 0, 0]\nirradiance = 5", "lights[0].edge2"),
+        ("edge1 = [0, 0, 0]\nedge2 = [0, 0, 1]\nirradiance = 5", "lights[0].edge1"),
+        ("edge1 = [1, 0, 0]\nedge2 = [0, 0, 1]\nirradiance = 0", "lights[0].irradiance"),
+        ("edge1 = [1, 0, 0]\nedge2 = [0, 0, 1]\nirradiance = -2", "lights[0].irradiance"),
+    ] {
+        assert_rejected(&beam(fields), &[fragment]);
+    }
+}
+
+/// Light paths per pass must be a positive count, in the file and on the command line.
+#[test]
+fn bad_light_path_counts_are_rejected() {
+    let text = GOOD.replace("spp = 1", "spp = 1\ncaustics = true\nlight_paths = 0");
+    assert_rejected(&text, &["render.light_paths"]);
+    let (code, stderr, produced) = render_text(GOOD, &["--caustics", "--light-paths", "0"]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(!produced);
+}

@@ -1,6 +1,7 @@
-//! Every case of validation/cases.toml, at the references' resolution and a modest sample
-//! count, agrees with its committed Mitsuba 3 references; and a deliberately wrong renderer
-//! (Schlick's approximation, or indices 1 % too high) fails the cases that can see the error.
+//! Every case of validation/cases.toml and caustic_cases.toml, at the references' resolution
+//! and a modest sample count, agrees with its committed Mitsuba 3 references; and a deliberately
+//! wrong renderer (Schlick's approximation, indices 1 % too high, a light tracer without the
+//! receiver's cosine) fails the cases that can see the error.
 //! CI never runs Mitsuba: the references are committed files.
 
 use std::path::Path;
@@ -55,6 +56,10 @@ fn wrong_renderers_fail() {
         ("specular_spheres", Fault::IorScale(1.01)),
         ("specular_prism", Fault::IorScale(1.01)),
         ("dispersion_550", Fault::IorScale(1.01)),
+        // Caustics against Mitsuba's particle tracer: the floor and the screen are seen
+        // obliquely, and the prism's band of light moves with the index.
+        ("caustic_sphere_550", Fault::NoReceiverCosine),
+        ("caustic_prism_550", Fault::IorScale(1.01)),
     ] {
         let (result, _) = run_case(&validation_dir(), find(name), &options(Some(fault))).unwrap();
         report(&format!("{name} with {fault:?}"), &result);

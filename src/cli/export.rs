@@ -88,6 +88,8 @@ pub fn run(args: &ExportArgs) -> Result<(), CliError> {
         .map(|light| match light {
             Light::Point(p) => json!({ "type": "point", "intensity": table(&p.intensity) }),
             Light::Quad(q) => json!({ "type": "quad", "radiance": table(&q.radiance) }),
+            Light::Spot(s) => json!({ "type": "spot", "intensity": table(&s.intensity) }),
+            Light::Beam(b) => json!({ "type": "beam", "irradiance": table(&b.irradiance) }),
         })
         .collect();
     let document = json!({

@@ -10,12 +10,13 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use super::{say, CliError};
 use prisma::film::SpectralBands;
+use prisma::integrator::LightTracer;
 use prisma::output::exr::encode_exr;
 use prisma::output::file::{check_destination, same_file, text_into, Destination, Outputs};
 use prisma::output::png::encode_png;
 use prisma::output::OutputError;
 use prisma::render::{render, Job, RenderError};
-use prisma::scene::build::{MAX_DEPTH, MAX_RESOLUTION, MAX_SPP};
+use prisma::scene::build::{MAX_DEPTH, MAX_LIGHT_PATHS, MAX_RESOLUTION, MAX_SPP};
 use prisma::spectrum::{LAMBDA_MAX_NM, LAMBDA_MIN_NM};
 
 /// Arguments of `prisma render`. Flags override the scene file's settings.
@@ -66,6 +67,16 @@ pub struct RenderArgs {
     /// Polarised transport even if the scene file turns it off.
     #[arg(long)]
     polarized: bool,
+    /// Add caustics by light tracing (light through mirrors and glass onto diffuse surfaces).
+    #[arg(long, conflicts_with = "no_caustics")]
+    caustics: bool,
+    /// No caustics, even if the scene file asks for them.
+    #[arg(long)]
+    no_caustics: bool,
+    /// Light paths per pass with caustics (a render makes one pass per sample per pixel)
+    /// [default: the scene's `light_paths`, else one per pixel].
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..=MAX_LIGHT_PATHS))]
+    light_paths: Option<u64>,
     /// Also write the mean spectral radiance in N bands (Fichet et al. 2021 spectral EXR layout).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=1024))]
     spectral_bands: Option<u32>,
@@ -98,6 +109,9 @@ impl RenderArgs {
             stats: None,
             unpolarized: false,
             polarized: false,
+            caustics: false,
+            no_caustics: false,
+            light_paths: None,
             spectral_bands: None,
             spectral_range: None,
         }
@@ -145,6 +159,20 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     } else if args.polarized {
         settings.polarized = true;
     }
+    if args.caustics {
+        settings.caustics = true;
+    } else if args.no_caustics {
+        settings.caustics = false;
+    }
+    settings.light_paths = args.light_paths.or(settings.light_paths);
+    if settings.caustics {
+        // Asked for caustics where none can form: say so, and render Whitted's image alone
+        // (which is then the whole image: there is nothing for the light tracer to add).
+        if let Some(why) = LightTracer::new(&scene, &settings, None).why_none() {
+            eprintln!("warning: {}: caustics are on but {why}: rendering without them", args.scene.display());
+            settings.caustics = false;
+        }
+    }
 
     settings.check_ray_tree_bound().map_err(|message| {
         CliError::Input(anyhow!("{}: with --max-depth: {message}", args.scene.display()))
@@ -182,6 +210,10 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         "spp": settings.spp,
         "wavelengths_per_sample": settings.wavelengths,
         "polarized": settings.polarized,
+        "caustics": settings.caustics,
+        "light_paths": stats.light_paths,
+        "light_rays": stats.light_rays,
+        "light_tracer_seconds": stats.light_elapsed.as_secs_f64(),
         "threads": stats.threads,
         "render_seconds": seconds,
         "samples": stats.samples,
@@ -209,8 +241,17 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     written.context("writing the outputs (none was written)").map_err(CliError::Failed)?;
 
     if !args.quiet {
+        let caustics = if stats.light_paths > 0 {
+            format!(
+                " + {:.2} M light paths ({:.2} s)",
+                stats.light_paths as f64 * 1e-6,
+                stats.light_elapsed.as_secs_f64()
+            )
+        } else {
+            String::new()
+        };
         say!(
-            "rendered {}: {width}×{height}, {} spp, {}, {} in {seconds:.2} s on {} threads ({:.1} M rays, {:.2} M rays/s)",
+            "rendered {}: {width}×{height}, {} spp{caustics}, {}, {} in {seconds:.2} s on {} threads ({:.1} M rays, {:.2} M rays/s)",
             args.scene.display(),
             settings.spp,
             if settings.polarized { "polarised" } else { "unpolarised" },

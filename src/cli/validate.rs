@@ -30,6 +30,10 @@ pub enum FaultArg {
     FlippedPhase,
     /// Polarisation dropped: each interface's reflectance averaged over s and p.
     Unpolarized,
+    /// The light tracer scales flux at refractions as radiance is scaled (1/η² per refraction).
+    LightRadianceScaling,
+    /// The light tracer misses the cosine at the diffuse receiver toward the camera.
+    NoReceiverCosine,
 }
 
 /// Arguments of `prisma validate`.
@@ -67,6 +71,8 @@ pub fn run(args: &ValidateArgs) -> Result<(), CliError> {
         FaultArg::TransposedRotation => Fault::TransposedRotation,
         FaultArg::FlippedPhase => Fault::FlippedPhase,
         FaultArg::Unpolarized => Fault::Unpolarized,
+        FaultArg::LightRadianceScaling => Fault::LightPathRadianceScaling,
+        FaultArg::NoReceiverCosine => Fault::NoReceiverCosine,
     });
     let threads = args.threads.unwrap_or(0) as usize;
     if !args.dir.join("cases.toml").is_file() {

@@ -1,16 +1,28 @@
-//! Integrators: estimators of the radiance arriving along a camera ray. prisma has Whitted's
-//! (`whitted`); a path tracer would sit beside it.
+//! Integrators: estimators of the light reaching the camera. Whitted's recursion (`whitted`)
+//! follows camera rays; the light tracer (`light_tracer`) follows light from the lights through
+//! mirrors and glass to the diffuse surfaces the camera sees: the caustics Whitted cannot find.
+//! Each counts its own path classes, so their images add up (see `light_tracer`).
 
 pub mod beam;
+pub mod emission;
+pub mod light_tracer;
 pub mod whitted;
 
+use glam::Vec3;
+
 pub use beam::Beam;
+pub use light_tracer::LightTracer;
 pub use whitted::Whitted;
+
+use crate::optics::{fresnel_dielectric, DielectricFresnel};
+use crate::polarization::mueller::JonesDiagonal;
+use crate::polarization::Rotation;
 
 /// Counters an integrator accumulates while tracing.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct TraceStats {
-    /// Rays cast: camera, specular branches and shadow rays.
+    /// Rays cast: camera, specular branches and shadow rays (light paths and their connections
+    /// to the camera in the light tracer).
     pub rays: u64,
 }
 
@@ -32,4 +44,64 @@ pub enum Fault {
     /// Polarisation dropped: an unpolarised render where a polarised one was asked for, each
     /// interface's reflectance averaged over s and p.
     Unpolarized,
+    /// The light tracer scales light paths at a refraction as camera paths are scaled, by
+    /// (n_i/n_t)²: radiance transport where flux (importance) transport is right. Entering and
+    /// leaving the same glass cancels it; a light inside glass shows it.
+    LightPathRadianceScaling,
+    /// The light tracer drops the cosine at the diffuse receiver (the cosine between its normal
+    /// and the direction to the camera) when it connects a light path to the camera.
+    NoReceiverCosine,
+}
+
+/// Fresnel at one lane, exact unless `fault` replaces it (Schlick, a scaled index).
+#[inline]
+pub(crate) fn fresnel(fault: Option<Fault>, cos_theta_i: f32, eta: f32) -> DielectricFresnel {
+    match fault {
+        Some(Fault::IorScale(scale)) => fresnel_dielectric(cos_theta_i, eta * scale),
+        Some(Fault::SchlickFresnel) => {
+            let exact = fresnel_dielectric(cos_theta_i, eta);
+            if exact.reflectance >= 1.0 {
+                return exact;
+            }
+            let r0 = ((eta - 1.0) / (eta + 1.0)).powi(2);
+            // Schlick uses the angle on the denser side.
+            let cos = if exact.eta_it > 1.0 { cos_theta_i.abs() } else { exact.cos_theta_t.abs() };
+            let schlick = r0 + (1.0 - r0) * (1.0 - cos).powi(5);
+            // The polarised render sees the same approximation: Schlick's reflectance for
+            // both polarisations, the amplitudes keeping their signs.
+            let amplitude = schlick.sqrt();
+            DielectricFresnel {
+                reflectance: schlick,
+                reflectance_s: schlick,
+                reflectance_p: schlick,
+                r_s: amplitude.copysign(exact.r_s),
+                r_p: amplitude.copysign(exact.r_p),
+                ..exact
+            }
+        }
+        _ => fresnel_dielectric(cos_theta_i, eta),
+    }
+}
+
+/// The change of Stokes frame from x axis `from` to `to` for light travelling along `forward`;
+/// transposed under [`Fault::TransposedRotation`].
+#[inline]
+pub(crate) fn rotation(fault: Option<Fault>, forward: Vec3, from: Vec3, to: Vec3) -> Rotation {
+    let rotation = Rotation::between(forward, from, to);
+    if fault == Some(Fault::TransposedRotation) {
+        rotation.transposed()
+    } else {
+        rotation
+    }
+}
+
+/// An element's matrix as the render uses it: its phase sign flipped under
+/// [`Fault::FlippedPhase`].
+#[inline]
+pub(crate) fn element(fault: Option<Fault>, element: JonesDiagonal) -> JonesDiagonal {
+    if fault == Some(Fault::FlippedPhase) {
+        element.phase_flipped()
+    } else {
+        element
+    }
 }

@@ -42,7 +42,7 @@ use super::{Beam, Fault, TraceStats};
 use crate::geometry::{spawn_origin, Hit, Ray};
 use crate::light::Light;
 use crate::material::{Dielectric, Diffuse, Material, Polarizer, Retarder};
-use crate::optics::{fresnel_dielectric, reflect, refract, DielectricFresnel};
+use crate::optics::{reflect, refract, DielectricFresnel};
 use crate::polarization::frame::s_axis;
 use crate::polarization::mueller::JonesDiagonal;
 use crate::polarization::{Detector, Mueller, Rotation};
@@ -95,54 +95,21 @@ impl<'a> Whitted<'a> {
     /// Fresnel at one lane: exact, unless a fault is injected.
     #[inline]
     fn fresnel(&self, cos_theta_i: f32, eta: f32) -> DielectricFresnel {
-        match self.fault {
-            Some(Fault::IorScale(scale)) => fresnel_dielectric(cos_theta_i, eta * scale),
-            Some(Fault::SchlickFresnel) => {
-                let exact = fresnel_dielectric(cos_theta_i, eta);
-                if exact.reflectance >= 1.0 {
-                    return exact;
-                }
-                let r0 = ((eta - 1.0) / (eta + 1.0)).powi(2);
-                // Schlick uses the angle on the denser side.
-                let cos = if exact.eta_it > 1.0 { cos_theta_i.abs() } else { exact.cos_theta_t.abs() };
-                let schlick = r0 + (1.0 - r0) * (1.0 - cos).powi(5);
-                // The polarised render sees the same approximation: Schlick's reflectance for
-                // both polarisations, the amplitudes keeping their signs.
-                let amplitude = schlick.sqrt();
-                DielectricFresnel {
-                    reflectance: schlick,
-                    reflectance_s: schlick,
-                    reflectance_p: schlick,
-                    r_s: amplitude.copysign(exact.r_s),
-                    r_p: amplitude.copysign(exact.r_p),
-                    ..exact
-                }
-            }
-            _ => fresnel_dielectric(cos_theta_i, eta),
-        }
+        super::fresnel(self.fault, cos_theta_i, eta)
     }
 
     /// The change of Stokes frame from x axis `from` to `to` for light travelling along
     /// `forward`; transposed under [`Fault::TransposedRotation`].
     #[inline]
     fn rotation(&self, forward: Vec3, from: Vec3, to: Vec3) -> Rotation {
-        let rotation = Rotation::between(forward, from, to);
-        if self.fault == Some(Fault::TransposedRotation) {
-            rotation.transposed()
-        } else {
-            rotation
-        }
+        super::rotation(self.fault, forward, from, to)
     }
 
     /// An element's matrix as the render uses it: its phase sign flipped under
     /// [`Fault::FlippedPhase`].
     #[inline]
     fn element(&self, element: JonesDiagonal) -> JonesDiagonal {
-        if self.fault == Some(Fault::FlippedPhase) {
-            element.phase_flipped()
-        } else {
-            element
-        }
+        super::element(self.fault, element)
     }
 
     /// Light (W·m⁻²·sr⁻¹·nm⁻¹) arriving at the origin of `ray` along it, at `wavelengths`. A
@@ -494,6 +461,8 @@ impl<'a> Whitted<'a> {
                 };
                 match light {
                     Light::Point(point) => point.sample(hit.point).into_iter().for_each(&mut add),
+                    Light::Spot(spot) => spot.sample(hit.point).into_iter().for_each(&mut add),
+                    Light::Beam(beam) => beam.sample(hit.point).into_iter().for_each(&mut add),
                     Light::Quad(quad) => {
                         let count = self.area_light_samples;
                         let shift = (rng.uniform(), rng.uniform());
@@ -508,18 +477,19 @@ impl<'a> Whitted<'a> {
                 continue;
             }
             // The unoccluded samples' weights first; the light's spectrum once, if any is lit.
+            let shadowed = |sample: crate::light::LightSample| {
+                self.shadowed(diffuse, hit, normal, shading_normal, to_viewer, sample, stats)
+            };
             let weight = match light {
-                Light::Point(point) => point.sample(hit.point).map_or(0.0, |sample| {
-                    self.shadowed(diffuse, hit, normal, shading_normal, to_viewer, sample, stats)
-                }),
+                Light::Point(point) => point.sample(hit.point).map_or(0.0, shadowed),
+                Light::Spot(spot) => spot.sample(hit.point).map_or(0.0, shadowed),
+                Light::Beam(beam) => beam.sample(hit.point).map_or(0.0, shadowed),
                 Light::Quad(quad) => {
                     let count = self.area_light_samples;
                     let shift = (rng.uniform(), rng.uniform());
                     (0..count)
                         .filter_map(|index| quad.sample(hit.point, index, count, shift))
-                        .map(|sample| {
-                            self.shadowed(diffuse, hit, normal, shading_normal, to_viewer, sample, stats)
-                        })
+                        .map(shadowed)
                         .sum()
                 }
             };

@@ -17,13 +17,15 @@ use super::typed::Typed;
 use super::{RenderSettings, Scene, SceneError, Surface};
 use crate::camera::Camera;
 use crate::geometry::{Geometry, Mesh, Plane, Quad, Shape, Sphere};
-use crate::light::{Light, PointLight, QuadLight};
+use crate::light::{BeamLight, Light, PointLight, QuadLight, SpotLight};
 use crate::material::{Conductor, Dielectric, Diffuse, Material, Mirror, Polarizer, Retarder};
 use crate::optics::{catalogue, metals, Ior};
 use crate::spectrum::{DenseSpectrum, Spectrum, LAMBDA_MAX_NM, LAMBDA_MIN_NM, N_LAMBDA};
 
 use super::limits::{MAX_COORDINATE, MAX_EMISSION, MAX_IOR, MIN_IOR, MIN_LENGTH};
 pub use super::limits::{MAX_DEPTH, MAX_RESOLUTION, MAX_SPP};
+/// Largest accepted number of light paths per pass.
+pub const MAX_LIGHT_PATHS: u64 = 1 << 40;
 
 /// Reads and builds the scene file at `path`.
 pub fn load(path: &Path) -> Result<Scene, SceneError> {
@@ -120,13 +122,19 @@ impl Builder<'_> {
         let mut black = None;
         for (index, light) in desc.lights.iter().enumerate() {
             let built = self.light(index, light)?;
-            if let Light::Quad(quad) = &built {
+            // Quad lights and beams are black parallelograms in the scene.
+            let surface = match &built {
+                Light::Quad(quad) => Some(quad.quad),
+                Light::Beam(beam) => Some(beam.quad),
+                Light::Point(_) | Light::Spot(_) => None,
+            };
+            if let Some(quad) = surface {
                 let material = *black.get_or_insert_with(|| {
                     materials.push(Material::Black);
                     material_names.push("(light)".to_owned());
                     materials.len() as u32 - 1
                 });
-                shapes.push(Shape::Quad(quad.quad));
+                shapes.push(Shape::Quad(quad));
                 surfaces.push(Surface { material, emitter: Some(lights.len() as u32) });
             }
             lights.push(built);
@@ -204,6 +212,16 @@ impl Builder<'_> {
                 format!("must be in [0, 1), got {prune_below}"),
             ));
         }
+        let light_paths = match desc.light_paths {
+            Some(paths) if !(1..=MAX_LIGHT_PATHS).contains(&paths) => {
+                return Err(self.error(
+                    span,
+                    "render.light_paths",
+                    format!("must be in 1..={MAX_LIGHT_PATHS} light paths per pass, got {paths}"),
+                ))
+            }
+            paths => paths,
+        };
         let settings = RenderSettings {
             spp,
             max_depth,
@@ -212,6 +230,8 @@ impl Builder<'_> {
             area_light_samples,
             prune_below,
             polarized: desc.polarized.unwrap_or(defaults.polarized),
+            caustics: desc.caustics.unwrap_or(defaults.caustics),
+            light_paths,
         };
         settings.check_ray_tree_bound().map_err(|message| self.error(span, "render.max_depth", message))?;
         Ok(settings)
@@ -711,7 +731,69 @@ impl Builder<'_> {
                 let radiance = self.spectrum(radiance, Role::Emission, span, &format!("{at}.radiance"))?;
                 Light::Quad(QuadLight { quad, emit_normal, radiance })
             }
+            LightDesc::Spot { position, look_at, intensity, cutoff_deg, beam_width_deg } => {
+                let position = self.point(*position, span.clone(), &format!("{at}.position"))?;
+                let target = self.point(*look_at, span.clone(), &format!("{at}.look_at"))?;
+                let axis = target - position;
+                if !(axis.length_squared() > 0.0 && axis.length_squared().is_finite()) {
+                    return Err(self.error(
+                        span,
+                        format!("{at}.look_at"),
+                        "equals position: the spot has no axis",
+                    ));
+                }
+                if !(cutoff_deg.is_finite() && *cutoff_deg > 0.0 && *cutoff_deg < 180.0) {
+                    return Err(self.error(
+                        span,
+                        format!("{at}.cutoff_deg"),
+                        format!("must be in (0, 180) degrees, got {cutoff_deg}"),
+                    ));
+                }
+                let beam_width_deg = beam_width_deg.unwrap_or(cutoff_deg * 0.75);
+                if !(beam_width_deg.is_finite() && beam_width_deg > 0.0 && beam_width_deg <= *cutoff_deg) {
+                    return Err(self.error(
+                        span,
+                        format!("{at}.beam_width_deg"),
+                        format!("must be in (0, cutoff_deg = {cutoff_deg}] degrees, got {beam_width_deg}"),
+                    ));
+                }
+                let intensity =
+                    self.spectrum(intensity, Role::Emission, span.clone(), &format!("{at}.intensity"))?;
+                self.emits(&intensity, span, &format!("{at}.intensity"))?;
+                Light::Spot(SpotLight {
+                    position,
+                    axis: axis.normalize(),
+                    intensity,
+                    cutoff_rad: cutoff_deg.to_radians(),
+                    beam_width_rad: beam_width_deg.to_radians(),
+                })
+            }
+            LightDesc::Beam { corner, edge1, edge2, irradiance, emit } => {
+                let quad = self.quad(*corner, *edge1, *edge2, span.clone(), &at)?;
+                let emit_normal = match emit {
+                    EmitSide::Edge1CrossEdge2 => quad.normal(),
+                    EmitSide::Edge2CrossEdge1 => -quad.normal(),
+                };
+                let irradiance =
+                    self.spectrum(irradiance, Role::Emission, span.clone(), &format!("{at}.irradiance"))?;
+                self.emits(&irradiance, span, &format!("{at}.irradiance"))?;
+                Light::Beam(BeamLight { quad, emit_normal, irradiance })
+            }
         })
+    }
+
+    /// Rejects a spot or beam whose spectrum is zero everywhere: it has no power.
+    fn emits(
+        &self,
+        spectrum: &DenseSpectrum,
+        span: std::ops::Range<usize>,
+        field: &str,
+    ) -> Result<(), SceneError> {
+        if spectrum.integral_nm() > 0.0 {
+            Ok(())
+        } else {
+            Err(self.error(span, field, "must be > 0 somewhere in 360–830 nm: this light has no power"))
+        }
     }
 }
 

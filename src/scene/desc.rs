@@ -96,6 +96,10 @@ pub struct RenderDesc {
     /// Carry Stokes vectors along every path (true, the default) or only radiance, with each
     /// interface's reflectance averaged over s and p (false: faster, approximate).
     pub polarized: Option<bool>,
+    /// Add caustics by light tracing (light → mirrors and glass → diffuse → camera).
+    pub caustics: Option<bool>,
+    /// Light paths traced per pass (one pass per sample per pixel); the pixel count when absent.
+    pub light_paths: Option<u64>,
 }
 
 /// A material, selected by `type` (read by [`Typed`], which keeps the positions of its values).
@@ -247,10 +251,38 @@ pub enum LightDesc {
         /// The side that emits.
         emit: EmitSide,
     },
+    /// A point light emitting into a cone (Mitsuba's `spot`).
+    Spot {
+        /// Position.
+        position: [f32; 3],
+        /// A point on the axis of the cone.
+        look_at: [f32; 3],
+        /// Radiant intensity on the axis, W·sr⁻¹·nm⁻¹.
+        intensity: SpectrumDesc,
+        /// Half-angle of the cone in degrees, in (0, 180): dark beyond.
+        cutoff_deg: f32,
+        /// Half-angle of the fully bright core in degrees, in (0, cutoff]; 3/4 of the cutoff when
+        /// absent.
+        #[serde(default)]
+        beam_width_deg: Option<f32>,
+    },
+    /// A collimated beam leaving a parallelogram along its normal (Mitsuba's `directionalarea`).
+    Beam {
+        /// Corner.
+        corner: [f32; 3],
+        /// First edge.
+        edge1: [f32; 3],
+        /// Second edge.
+        edge2: [f32; 3],
+        /// Irradiance on a plane perpendicular to the beam, W·m⁻²·nm⁻¹.
+        irradiance: SpectrumDesc,
+        /// The direction the beam travels.
+        emit: EmitSide,
+    },
 }
 
 impl TypeNames for LightDesc {
-    const TYPES: &'static [&'static str] = &["point", "quad"];
+    const TYPES: &'static [&'static str] = &["point", "quad", "spot", "beam"];
 }
 
 /// The emitting side of a quad light.

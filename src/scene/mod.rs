@@ -35,6 +35,22 @@ pub struct RenderSettings {
     pub prune_below: f32,
     /// Carry Stokes vectors (true) or radiance with s/p-averaged Fresnel weights (false).
     pub polarized: bool,
+    /// Add caustics by light tracing ([`crate::integrator::LightTracer`]).
+    pub caustics: bool,
+    /// Light paths per pass when caustics are on (a render makes `spp` passes); `None`: one per
+    /// pixel.
+    pub light_paths: Option<u64>,
+}
+
+impl RenderSettings {
+    /// Light paths a render of `pixels` pixels traces in all: `spp` passes of
+    /// [`Self::light_paths`] (one per pixel by default). Zero when caustics are off.
+    pub fn total_light_paths(&self, pixels: u64) -> u64 {
+        if !self.caustics {
+            return 0;
+        }
+        self.light_paths.unwrap_or(pixels).saturating_mul(u64::from(self.spp))
+    }
 }
 
 impl Default for RenderSettings {
@@ -47,6 +63,8 @@ impl Default for RenderSettings {
             area_light_samples: 4,
             prune_below: 0.01,
             polarized: true,
+            caustics: false,
+            light_paths: None,
         }
     }
 }

@@ -75,6 +75,17 @@ impl DenseSpectrum {
         }
     }
 
+    /// ∫ value dλ over 360–830 nm (units of the spectrum times nm), by the trapezoid rule on the
+    /// 1 nm table: exact for the piecewise-linear function [`Self::eval`] interpolates.
+    pub fn integral_nm(&self) -> f64 {
+        match self {
+            Self::Constant(value) => {
+                f64::from(*value) * f64::from(grid_lambda_nm(GRID_LEN - 1) - grid_lambda_nm(0))
+            }
+            Self::Table(table) => table.windows(2).map(|w| 0.5 * (f64::from(w[0]) + f64::from(w[1]))).sum(),
+        }
+    }
+
     /// True when the value is the same at every wavelength.
     pub fn is_constant(&self) -> bool {
         match self {

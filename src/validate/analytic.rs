@@ -12,8 +12,9 @@ use crate::render::{render, Job};
 use crate::scene::{parse, Scene};
 
 /// Names of the analytic cases, in the order [`run`] runs them: the radiometric cases of this
-/// module, then the polarisation cases of [`super::polarization`].
-pub const CASES: [&str; 13] = [
+/// module, the polarisation cases of [`super::polarization`], then the caustic cases of
+/// [`super::caustics`].
+pub const CASES: [&str; 16] = [
     "lambert_point_light",
     "furnace_glass",
     "furnace_dispersive_glass",
@@ -27,6 +28,9 @@ pub const CASES: [&str; 13] = [
     "tir_retardance",
     "conductor_pair",
     "polarizer_chain",
+    "newton_lines",
+    "ball_lens_focus",
+    "caustic_power",
 ];
 
 /// Unpolarised Fresnel reflectance from the textbook amplitude formulas (Hecht §4.6), f64, for
@@ -64,6 +68,7 @@ pub fn run(name: &str, threads: usize, fault: Option<Fault>) -> Result<CaseResul
         "prism_minimum_deviation" => ctx.prism(name),
         "snell_window" => ctx.snell_window(name),
         name if super::polarization::CASES.contains(&name) => super::polarization::run(name, threads, fault),
+        name if super::caustics::CASES.contains(&name) => super::caustics::run(name, threads, fault),
         _ => Err(ValidateError::Input(format!(
             "unknown analytic case \"{name}\"; known: {}",
             CASES.join(", ")

@@ -75,16 +75,37 @@ pub struct Case {
     /// Largest |z| of the mean difference.
     #[serde(default)]
     pub max_mean_z: Option<f64>,
+    /// Compare only some pixels: `"diffuse_seen_directly"` keeps the pixels whose whole
+    /// footprint, and their neighbours', shows a diffuse surface directly (the light tracer's
+    /// references: Mitsuba's `ptracer` renders mirrors and glass black).
+    #[serde(default)]
+    pub mask: Option<String>,
 }
 
 fn polarized_by_default() -> bool {
     true
 }
 
-/// Reads `cases.toml` in `validation_dir`.
+/// The files of Mitsuba-referenced cases in a validation directory: the Whitted and colour cases,
+/// and the caustic cases (light tracer against Mitsuba's `ptracer`).
+pub const CASE_FILES: [&str; 2] = ["cases.toml", "caustic_cases.toml"];
+
+/// Reads every case of [`CASE_FILES`] in `validation_dir` (a missing caustic file is no error).
 pub fn load(validation_dir: &Path) -> Result<Vec<Case>, ValidateError> {
-    let path = validation_dir.join("cases.toml");
-    let text = std::fs::read_to_string(&path)
+    let mut all = Vec::new();
+    for (index, file) in CASE_FILES.iter().enumerate() {
+        let path = validation_dir.join(file);
+        if index > 0 && !path.exists() {
+            continue;
+        }
+        all.extend(load_file(&path)?);
+    }
+    Ok(all)
+}
+
+/// Reads one file of cases.
+fn load_file(path: &Path) -> Result<Vec<Case>, ValidateError> {
+    let text = std::fs::read_to_string(path)
         .map_err(|e| ValidateError::Input(format!("{}: cannot read: {e}", path.display())))?;
     let file: CasesFile = toml::from_str(&text).map_err(|e| {
         ValidateError::Input(format!("{}: {}", path.display(), crate::scene::error::one_line(e.message())))
@@ -93,6 +114,13 @@ pub fn load(validation_dir: &Path) -> Result<Vec<Case>, ValidateError> {
         if case.references.len() != 2 {
             return Err(ValidateError::Input(format!(
                 "{}: case {}: `references` must list two renders with independent seeds",
+                path.display(),
+                case.name
+            )));
+        }
+        if case.mask.as_ref().is_some_and(|m| m != "diffuse_seen_directly") {
+            return Err(ValidateError::Input(format!(
+                "{}: case {}: the only `mask` is \"diffuse_seen_directly\"",
                 path.display(),
                 case.name
             )));

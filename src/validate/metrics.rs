@@ -102,6 +102,19 @@ pub struct Comparison {
 /// Compares the test pair (`test_a`, `test_b`) with the reference pair (`ref_a`, `ref_b`).
 /// Panics if the four images differ in size or channel count.
 pub fn compare(test_a: &Planes, test_b: &Planes, ref_a: &Planes, ref_b: &Planes) -> Comparison {
+    compare_masked(test_a, test_b, ref_a, ref_b, None)
+}
+
+/// As [`compare`], over the pixels whose `mask` entry is true only (all pixels without a mask):
+/// the rest count neither as outliers nor in the means. Panics if the mask's length is not the
+/// pixel count.
+pub fn compare_masked(
+    test_a: &Planes,
+    test_b: &Planes,
+    ref_a: &Planes,
+    ref_b: &Planes,
+    mask: Option<&[bool]>,
+) -> Comparison {
     let (w, h) = (ref_a.width, ref_a.height);
     for other in [test_a, test_b, ref_b] {
         assert!(
@@ -110,6 +123,11 @@ pub fn compare(test_a: &Planes, test_b: &Planes, ref_a: &Planes, ref_b: &Planes)
         );
     }
     let n = w * h;
+    if let Some(mask) = mask {
+        assert_eq!(mask.len(), n, "mask size mismatch");
+    }
+    let kept = |i: usize| mask.is_none_or(|m| m[i]);
+    let counted = (0..n).filter(|&i| kept(i)).count();
     let mut z_map = vec![0.0f64; n];
     let mut outlier = vec![false; n];
     let (mut rel_mse, mut rel_mse_excess, mut mean_z, mut mean_ratio) = (0.0, 0.0, 0.0f64, Vec::new());
@@ -125,7 +143,7 @@ pub fn compare(test_a: &Planes, test_b: &Planes, ref_a: &Planes, ref_b: &Planes)
         let (vp, vm) = (variance(test_a, test_b), variance(ref_a, ref_b));
         // The null comparison: (p_a − p_b)/2 + (m_a − m_b)/2 has the variance of p̄ − m̄ under
         // the null hypothesis (same truth, symmetric noise) and is divided by the same estimate.
-        for i in 0..n {
+        for i in (0..n).filter(|&i| kept(i)) {
             let floor = 1e-4 + 1e-3 * m[i].abs();
             let null_diff =
                 0.5 * (test_a.data[c][i] - test_b.data[c][i]) + 0.5 * (ref_a.data[c][i] - ref_b.data[c][i]);
@@ -133,7 +151,7 @@ pub fn compare(test_a: &Planes, test_b: &Planes, ref_a: &Planes, ref_b: &Planes)
             null_outlier[i] |= z.is_nan() || z.abs() > Z_OUTLIER;
         }
         let (mut sum_diff, mut sum_var, mut sum_p, mut sum_m) = (0.0, 0.0, 0.0, 0.0);
-        for i in 0..n {
+        for i in (0..n).filter(|&i| kept(i)) {
             let diff = p[i] - m[i];
             let floor = 1e-4 + 1e-3 * m[i].abs();
             let z = diff / (vp[i] + vm[i] + floor * floor).sqrt();
@@ -161,10 +179,10 @@ pub fn compare(test_a: &Planes, test_b: &Planes, ref_a: &Planes, ref_b: &Planes)
         mean_ratio.push(if sum_m != 0.0 { sum_p / sum_m } else { f64::NAN });
     }
     let channels = ref_a.data.len().max(1) as f64;
-    let fraction = |flags: &[bool]| flags.iter().filter(|&&o| o).count() as f64 / n.max(1) as f64;
+    let fraction = |flags: &[bool]| flags.iter().filter(|&&o| o).count() as f64 / counted.max(1) as f64;
     Comparison {
-        rel_mse: rel_mse / (n as f64 * channels),
-        rel_mse_excess: rel_mse_excess / (n as f64 * channels),
+        rel_mse: rel_mse / (counted.max(1) as f64 * channels),
+        rel_mse_excess: rel_mse_excess / (counted.max(1) as f64 * channels),
         outlier_fraction: fraction(&outlier),
         null_outlier_fraction: fraction(&null_outlier),
         mean_z,

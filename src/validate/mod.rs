@@ -5,6 +5,7 @@
 
 pub mod analytic;
 pub mod cases;
+pub mod caustics;
 pub mod field;
 pub mod metrics;
 pub mod mitsuba;

@@ -1,0 +1,419 @@
+//! Where the light tracer's paths start: which light, where on it, in which direction, and with
+//! what flux weight.
+//!
+//! A light path counts only if its first interaction is with a mirror or glass (the light
+//! tracer adds L S⁺ D E; Whitted already has L D E), so emission is aimed at them, as photon
+//! mapping's projection maps do (Jensen, *Realistic Image Synthesis Using Photon Mapping*,
+//! §5.3): every mirror and glass object is bounded by a sphere, and point, spot and quad lights
+//! draw directions from the union of the cones those spheres subtend, a mixture sampled in
+//! proportion to the cones' solid angles, whose density at ω is (number of cones holding ω) /
+//! (sum of their solid angles). Directions outside every cone could only reach a diffuse
+//! surface, a light or nothing first, so leaving them out loses no light path that counts, and
+//! the estimate stays unbiased. When the cones cover more than the light's own emission
+//! (a light inside or close to the glass), or when a mirror is an infinite plane, a light draws
+//! from its own distribution instead. In TP6 the two spheres' cones (14.1° half-angle each, seen
+//! from the point light) cover 3 % of the sphere of directions: aimed, every path meets a
+//! sphere, 33× as many as uniform emission would send there.
+//!
+//! Lights are chosen in proportion to the power they can send toward the mirrors and glass
+//! (their spectra integrated over 360–830 nm), so that no light that can make a caustic is
+//! left out and none that cannot is drawn.
+
+use glam::Vec3;
+
+use crate::geometry::{spawn_origin, Aabb, Ray, Shape};
+use crate::light::{Light, QuadLight, SpotLight};
+use crate::material::Material;
+use crate::polarization::frame::any_perpendicular;
+use crate::scene::Scene;
+
+const TAU: f32 = std::f32::consts::TAU;
+const FOUR_PI: f32 = 4.0 * std::f32::consts::PI;
+
+/// A sphere bounding a mirror or glass object.
+#[derive(Debug, Clone, Copy)]
+struct Target {
+    center: Vec3,
+    radius: f32,
+}
+
+/// A cone of directions: those within the half-angle of cosine `cos_half` of the unit `axis`.
+#[derive(Debug, Clone, Copy)]
+pub struct Cone {
+    axis: Vec3,
+    cos_half: f32,
+}
+
+impl Cone {
+    /// The cone of directions from `from` that can meet `target`, or `None` when `from` is
+    /// inside its sphere (every direction can).
+    fn toward(from: Vec3, target: &Target) -> Option<Cone> {
+        let offset = target.center - from;
+        let distance_sq = offset.length_squared();
+        let radius_sq = target.radius * target.radius;
+        if distance_sq <= radius_sq * 1.0001 {
+            return None;
+        }
+        let distance = distance_sq.sqrt();
+        // cos of the half-angle asin(r/d), made a little wider against rounding.
+        let cos_half = ((distance_sq - radius_sq).sqrt() / distance * 0.99999).min(1.0);
+        Some(Cone { axis: offset / distance, cos_half })
+    }
+
+    /// Solid angle, sr.
+    fn solid_angle(&self) -> f32 {
+        TAU * (1.0 - self.cos_half)
+    }
+
+    /// True when the unit direction `dir` is inside.
+    fn contains(&self, dir: Vec3) -> bool {
+        dir.dot(self.axis) >= self.cos_half
+    }
+
+    /// A direction uniform in the cone from the uniform numbers `u`.
+    fn sample(&self, u: (f32, f32)) -> Vec3 {
+        let cos_theta = 1.0 - u.0 * (1.0 - self.cos_half);
+        let sin_theta = (1.0 - cos_theta * cos_theta).max(0.0).sqrt();
+        let (sin_phi, cos_phi) = (TAU * u.1).sin_cos();
+        let tangent = any_perpendicular(self.axis);
+        let bitangent = self.axis.cross(tangent);
+        (cos_theta * self.axis + sin_theta * (cos_phi * tangent + sin_phi * bitangent)).normalize()
+    }
+}
+
+/// The union of `cones` sampled as a mixture in proportion to their solid angles (`total` is
+/// their sum): a direction and its density (sr⁻¹).
+fn sample_cones(cones: &[Cone], total: f32, u_cone: f32, u: (f32, f32)) -> (Vec3, f32) {
+    let mut pick = u_cone * total;
+    let mut chosen = cones[cones.len() - 1];
+    for cone in cones {
+        if pick < cone.solid_angle() {
+            chosen = *cone;
+            break;
+        }
+        pick -= cone.solid_angle();
+    }
+    let dir = chosen.sample(u);
+    (dir, cones_pdf(cones, total, dir))
+}
+
+/// The density of [`sample_cones`] at `dir`: cones holding it over the total solid angle.
+fn cones_pdf(cones: &[Cone], total: f32, dir: Vec3) -> f32 {
+    let holding = cones.iter().filter(|cone| cone.contains(dir)).count().max(1);
+    holding as f32 / total
+}
+
+/// How a point or spot light draws directions, fixed when the tracer is built.
+#[derive(Debug, Clone)]
+enum Directions {
+    /// The light's own distribution: uniform over the sphere (point) or the cutoff cone (spot).
+    Own,
+    /// The union of the cones toward the mirrors and glass.
+    Cones { cones: Vec<Cone>, total: f32 },
+}
+
+/// One light as a source of light paths.
+#[derive(Debug, Clone)]
+struct Source {
+    /// Index into the scene's lights.
+    light: usize,
+    /// Probability of choosing it.
+    probability: f32,
+    /// Directions of a point or spot light (unused by quads and beams).
+    directions: Directions,
+}
+
+/// A light path's start: the ray leaving the light, the light, and the flux weight that
+/// multiplies the light's emitted spectrum ([`Light::emitted`]): 1/(probability of the light ×
+/// densities of position and direction) times the emission's own factors (falloff, cosine,
+/// area), so that the weighted spectrum is an unbiased estimate of the light's power (W·nm⁻¹).
+#[derive(Debug, Clone, Copy)]
+pub struct Emitted {
+    /// The ray leaving the light.
+    pub ray: Ray,
+    /// Index into the scene's lights.
+    pub light: usize,
+    /// The flux weight (m²·sr for a quad, m² for a beam, sr for point and spot lights).
+    pub weight: f32,
+}
+
+/// The lights as sources of light paths.
+#[derive(Debug, Clone)]
+pub struct Emission {
+    sources: Vec<Source>,
+    /// Bounding spheres of the mirrors and glass; `None` when one of them is unbounded.
+    targets: Option<Vec<Target>>,
+}
+
+impl Emission {
+    /// The sources of `scene`'s light paths: every light that can send light to a mirror or
+    /// glass object.
+    pub fn new(scene: &Scene) -> Self {
+        let targets = targets(scene);
+        let mut sources = Vec::new();
+        for (index, light) in scene.lights.iter().enumerate() {
+            let (power, directions) = match light {
+                Light::Point(point) => {
+                    let (solid_angle, directions) = match &targets {
+                        Some(targets) => {
+                            aimed(targets.iter().map(|t| Cone::toward(point.position, t)), FOUR_PI, None)
+                        }
+                        None => (FOUR_PI, Directions::Own),
+                    };
+                    (point.intensity.integral_nm() * f64::from(solid_angle), directions)
+                }
+                Light::Spot(spot) => {
+                    let own = 1.0 - spot.cos_cutoff();
+                    let own_solid_angle = TAU * own;
+                    let (solid_angle, directions) = match &targets {
+                        Some(targets) => aimed(
+                            targets.iter().map(|t| Cone::toward(spot.position, t)),
+                            own_solid_angle,
+                            Some(spot),
+                        ),
+                        None => (own_solid_angle, Directions::Own),
+                    };
+                    let reach = solid_angle.min(spot.solid_angle_weight());
+                    (spot.intensity.integral_nm() * f64::from(reach), directions)
+                }
+                Light::Quad(quad) => (
+                    quad.radiance.integral_nm() * f64::from(quad.quad.area() * std::f32::consts::PI),
+                    Directions::Own,
+                ),
+                Light::Beam(beam) => {
+                    (beam.irradiance.integral_nm() * f64::from(beam.quad.area()), Directions::Own)
+                }
+            };
+            if power > 0.0 && power.is_finite() && targets.as_ref().is_none_or(|t| !t.is_empty()) {
+                sources.push(Source { light: index, probability: power as f32, directions });
+            }
+        }
+        let total: f32 = sources.iter().map(|s| s.probability).sum();
+        for source in &mut sources {
+            source.probability /= total;
+        }
+        Self { sources, targets }
+    }
+
+    /// True when no light can send light to a mirror or glass object (no light, no mirror or
+    /// glass, or none within reach of a spot).
+    pub fn is_empty(&self) -> bool {
+        self.sources.is_empty()
+    }
+
+    /// The start of a light path from uniform numbers: `u_light` chooses the light, `u_dir`
+    /// the direction (a beam: the position), `u_more` a cone and a position on a quad.
+    /// `cones` is scratch space. `None` when the drawn direction carries no light.
+    pub fn sample(
+        &self,
+        scene: &Scene,
+        u_light: f32,
+        u_dir: (f32, f32),
+        u_more: [f32; 3],
+        cones: &mut Vec<Cone>,
+    ) -> Option<Emitted> {
+        let mut pick = u_light;
+        let mut chosen = self.sources.last()?;
+        for source in &self.sources {
+            if pick < source.probability {
+                chosen = source;
+                break;
+            }
+            pick -= source.probability;
+        }
+        let light = &scene.lights[chosen.light];
+        let (origin, normal, dir, weight) = match light {
+            Light::Point(point) => {
+                let (dir, pdf) = match &chosen.directions {
+                    Directions::Own => (uniform_sphere(u_dir), 1.0 / FOUR_PI),
+                    Directions::Cones { cones, total } => sample_cones(cones, *total, u_more[0], u_dir),
+                };
+                (point.position, None, dir, 1.0 / pdf)
+            }
+            Light::Spot(spot) => {
+                let (dir, pdf) = match &chosen.directions {
+                    Directions::Own => {
+                        let own = Cone { axis: spot.axis, cos_half: spot.cos_cutoff() };
+                        (own.sample(u_dir), 1.0 / own.solid_angle())
+                    }
+                    Directions::Cones { cones, total } => sample_cones(cones, *total, u_more[0], u_dir),
+                };
+                (spot.position, None, dir, spot.falloff(dir) / pdf)
+            }
+            Light::Quad(quad) => {
+                let origin = quad.quad.point_at(u_more[1], u_more[2]);
+                let (dir, pdf) = self.quad_direction(quad, origin, u_more[0], u_dir, cones);
+                let cos_theta = dir.dot(quad.emit_normal);
+                (origin, Some(quad.emit_normal), dir, quad.quad.area() * cos_theta.max(0.0) / pdf)
+            }
+            Light::Beam(beam) => {
+                let origin = beam.quad.point_at(u_dir.0, u_dir.1);
+                (origin, Some(beam.emit_normal), beam.emit_normal, beam.quad.area())
+            }
+        };
+        let weight = weight / chosen.probability;
+        if !(weight > 0.0 && weight.is_finite()) {
+            return None;
+        }
+        let origin = match normal {
+            Some(normal) => spawn_origin(origin, normal, dir),
+            None => origin,
+        };
+        Some(Emitted { ray: Ray::new(origin, dir), light: chosen.light, weight })
+    }
+
+    /// A direction from `origin` on a quad light and its density: toward the mirrors and glass
+    /// when their cones cover less than the hemisphere, else cosine-weighted.
+    fn quad_direction(
+        &self,
+        quad: &QuadLight,
+        origin: Vec3,
+        u_cone: f32,
+        u: (f32, f32),
+        cones: &mut Vec<Cone>,
+    ) -> (Vec3, f32) {
+        cones.clear();
+        let mut total = 0.0;
+        if let Some(targets) = &self.targets {
+            for target in targets {
+                match Cone::toward(origin, target) {
+                    Some(cone) => {
+                        total += cone.solid_angle();
+                        cones.push(cone);
+                    }
+                    None => {
+                        total = f32::INFINITY;
+                        break;
+                    }
+                }
+            }
+        } else {
+            total = f32::INFINITY;
+        }
+        if total < TAU && !cones.is_empty() {
+            return sample_cones(cones, total, u_cone, u);
+        }
+        let normal = quad.emit_normal;
+        let radius = u.0.sqrt();
+        let (sin_phi, cos_phi) = (TAU * u.1).sin_cos();
+        let cos_theta = (1.0 - u.0).max(0.0).sqrt();
+        let tangent = any_perpendicular(normal);
+        let bitangent = normal.cross(tangent);
+        let dir = (cos_theta * normal + radius * (cos_phi * tangent + sin_phi * bitangent)).normalize();
+        (dir, dir.dot(normal).max(1e-8) * std::f32::consts::FRAC_1_PI)
+    }
+}
+
+/// A uniform direction on the unit sphere.
+fn uniform_sphere(u: (f32, f32)) -> Vec3 {
+    let z = 1.0 - 2.0 * u.0;
+    let radius = (1.0 - z * z).max(0.0).sqrt();
+    let (sin_phi, cos_phi) = (TAU * u.1).sin_cos();
+    Vec3::new(radius * cos_phi, radius * sin_phi, z)
+}
+
+/// The directions of a point or spot light given the cones toward each target (`None`: inside
+/// one), and the solid angle they span: the cones when they span less than `own` (the light's
+/// own solid angle), else the light's own distribution. A spot keeps only the cones its cutoff
+/// cone overlaps.
+fn aimed(cones: impl Iterator<Item = Option<Cone>>, own: f32, spot: Option<&SpotLight>) -> (f32, Directions) {
+    let mut kept = Vec::new();
+    for cone in cones {
+        let Some(cone) = cone else { return (own, Directions::Own) };
+        if let Some(spot) = spot {
+            // Disjoint when the angle between the axes exceeds the sum of the half-angles.
+            let between = spot.axis.dot(cone.axis).clamp(-1.0, 1.0).acos();
+            if between >= spot.cutoff_rad + cone.cos_half.clamp(-1.0, 1.0).acos() {
+                continue;
+            }
+        }
+        kept.push(cone);
+    }
+    let total: f32 = kept.iter().map(Cone::solid_angle).sum();
+    if kept.is_empty() {
+        return (0.0, Directions::Cones { cones: kept, total: 0.0 });
+    }
+    if total >= own {
+        return (own, Directions::Own);
+    }
+    (total, Directions::Cones { cones: kept, total })
+}
+
+/// Bounding spheres of every mirror and glass object (spheres, quads, one per mesh), or `None`
+/// when one is an infinite plane. Polarisers and retarders are not targets: light passes them
+/// unchanged in direction, and a path that meets only them ends at a diffuse surface Whitted
+/// already lights through them.
+fn targets(scene: &Scene) -> Option<Vec<Target>> {
+    let mut targets = Vec::new();
+    let mut meshes: Vec<Option<Aabb>> = vec![None; scene.geometry.meshes().len()];
+    for (shape, surface) in scene.geometry.shapes().iter().zip(&scene.surfaces) {
+        if !matches!(
+            scene.materials[surface.material as usize],
+            Material::Mirror(_) | Material::Dielectric(_)
+        ) {
+            continue;
+        }
+        match shape {
+            Shape::Sphere(sphere) => targets.push(Target { center: sphere.center, radius: sphere.radius }),
+            Shape::Plane(_) => return None,
+            Shape::Quad(quad) => targets.push(sphere_of(&quad.bounds())),
+            Shape::Triangle { mesh, .. } => {
+                let bounds = shape.bounds(scene.geometry.meshes())?;
+                let slot = &mut meshes[*mesh as usize];
+                *slot = Some(slot.map_or(bounds, |b| b.union(bounds)));
+            }
+        }
+    }
+    targets.extend(meshes.iter().flatten().map(sphere_of));
+    Some(targets)
+}
+
+/// The sphere around a box (centre and half diagonal), a little larger against rounding.
+fn sphere_of(bounds: &Aabb) -> Target {
+    let center = bounds.centroid();
+    let radius = 0.5 * (bounds.max - bounds.min).length() * 1.0001 + 1e-6 * center.abs().max_element();
+    Target { center, radius }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The mixture over overlapping cones is a density: its integral over the sphere is 1
+    /// (Monte Carlo with uniform directions, 200 000 samples: standard error about 0.5 %).
+    #[test]
+    fn cone_mixture_density_integrates_to_one() {
+        let targets = [
+            Target { center: Vec3::new(0.0, 0.0, 3.0), radius: 1.0 },
+            Target { center: Vec3::new(0.5, 0.0, 3.0), radius: 1.2 },
+            Target { center: Vec3::new(-4.0, 1.0, 0.0), radius: 0.5 },
+        ];
+        let cones: Vec<Cone> = targets.iter().filter_map(|t| Cone::toward(Vec3::ZERO, t)).collect();
+        let total: f32 = cones.iter().map(Cone::solid_angle).sum();
+        let n = 200_000;
+        let mut integral = 0.0f64;
+        for k in 0..n {
+            let u = ((k as f32 + 0.5) / n as f32, (k as f32 * 0.618_034).fract());
+            integral += f64::from(cones_pdf(&cones, total, uniform_sphere(u)))
+                * f64::from(cones.iter().any(|c| c.contains(uniform_sphere(u))) as u8);
+        }
+        integral *= f64::from(FOUR_PI) / f64::from(n);
+        assert!((integral - 1.0).abs() < 0.02, "∫ pdf = {integral}");
+    }
+
+    /// Every direction that meets a target sphere lies in its cone.
+    #[test]
+    fn cones_hold_every_direction_that_meets_the_sphere() {
+        let target = Target { center: Vec3::new(1.0, 2.0, 5.0), radius: 0.7 };
+        let cone = Cone::toward(Vec3::ZERO, &target).unwrap();
+        for k in 0..2000 {
+            let dir = uniform_sphere(((k as f32 + 0.5) / 2000.0, (k as f32 * 0.754_877).fract()));
+            let along = target.center.dot(dir);
+            let miss_sq = target.center.length_squared() - along * along;
+            if along > 0.0 && miss_sq < target.radius * target.radius {
+                assert!(cone.contains(dir), "{dir}");
+            }
+        }
+        assert!(Cone::toward(target.center, &target).is_none(), "inside the sphere");
+    }
+}

@@ -1,0 +1,156 @@
+#!/usr/bin/env python3
+"""Caustics speed: time for prisma (Whitted + light tracer) and Mitsuba 3.9.1's `ptracer`
+(`llvm_ad_mono`, the same wavelength, the same scene, its floor the `receiver` BSDF of
+validation/mitsuba/caustics.py) to reach relMSE 1e-3 and 1e-4 against the converged reference
+(the two committed 50 M-path references of `caustic_sphere_550`), in one run.
+
+relMSE is bench.py's, mean (p − m)²/(m² + 0.01), over the pixels that see the floor directly
+(both references non-zero, eroded by one pixel), less the part the reference's own noise explains.
+Each renderer renders at doubling effort; the time at a target error is interpolated in log-log
+between the two renders that bracket it. prisma's time is its render time (stats JSON, without
+loading and writing); Mitsuba's is the wall time of mi.render after a warm-up render of the same
+size (JIT compilation excluded).
+
+  export DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM-19.so
+  validation/.venv/bin/python validation/bench/caustics_bench.py            # ball lens vs ptracer
+  validation/.venv/bin/python validation/bench/caustics_bench.py --newton   # and the Newton prism
+"""
+
+import json
+import math
+import pathlib
+import subprocess
+import sys
+import tempfile
+import time
+
+import mitsuba as mi
+import numpy as np
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "validation" / "mitsuba"))
+import translate  # noqa: E402
+
+SCENE = ROOT / "validation" / "scenes" / "caustic_sphere.toml"
+WAVELENGTH = 550.0
+REFERENCES = [ROOT / "validation" / "references" / f"caustic_sphere_550_seed{s}.exr" for s in (1, 2)]
+
+
+def load(path):
+    image = np.array(mi.Bitmap(str(path)), dtype=np.float64)
+    return image[..., 0] if image.ndim == 3 else image
+
+
+def erode(mask):
+    out = mask.copy()
+    for dy in (-1, 0, 1):
+        for dx in (-1, 0, 1):
+            out &= np.roll(np.roll(mask, dy, axis=0), dx, axis=1)
+    return out
+
+
+def rgb(path):
+    """The R, G, B channels of a prisma EXR."""
+    bitmap = mi.Bitmap(str(path))
+    names = [bitmap.struct_()[i].name for i in range(bitmap.channel_count())]
+    image = np.array(bitmap, dtype=np.float64)
+    return image[..., [names.index(c) for c in ("R", "G", "B")]]
+
+
+def rel_mse(image, reference, mask):
+    return float(np.mean(((image - reference) ** 2 / (reference ** 2 + 1e-2))[mask]))
+
+
+def time_at(points, target):
+    """log-log interpolation of (seconds, error) points at `target` error."""
+    points = sorted(points)
+    for (t0, e0), (t1, e1) in zip(points, points[1:]):
+        if e0 >= target >= e1 and e0 > 0 and e1 > 0:
+            f = math.log(target / e0) / math.log(e1 / e0)
+            return math.exp(math.log(t0) + f * (math.log(t1) - math.log(t0)))
+    return None
+
+
+def main():
+    mi.set_variant("scalar_rgb")
+    first, second = (load(p) for p in REFERENCES)
+    reference = 0.5 * (first + second)
+    mask = erode((first > 0) & (second > 0))
+    noise = float(np.mean(((first - second) ** 2 / 4.0 / (reference ** 2 + 1e-2))[mask]))
+    results = {"reference_noise_relmse": noise, "pixels": int(mask.sum())}
+
+    prisma = translate.find_prisma()
+    out = pathlib.Path(tempfile.mkdtemp(prefix="caustics_bench_"))
+    points = []
+    for spp in (1, 2, 4, 8, 16, 32, 64, 128, 256):
+        exr, stats = out / f"prisma_{spp}.exr", out / f"prisma_{spp}.json"
+        # Unpolarised, as Mitsuba's plain variant and the references.
+        subprocess.run([prisma, "render", str(SCENE), "--wavelength", str(WAVELENGTH), "--spp", str(spp),
+                        "--unpolarized", "--seed", "17", "-o", str(exr), "--quiet", "--stats", str(stats)],
+                       check=True)
+        seconds = json.loads(stats.read_text())["render_seconds"]
+        error = rel_mse(load(exr), reference, mask) - noise
+        points.append((seconds, error))
+        print(f"prisma {spp} spp: {seconds:.3f} s, relMSE {error:.3e}", flush=True)
+        if error < 5e-5:
+            break
+    results["prisma"] = points
+
+    mi.set_variant("llvm_ad_mono")
+    import caustics
+    caustics.register_receiver()
+    scene = translate.PrismaScene.load(SCENE, out / "export", prisma)
+    translator = caustics.CausticTranslator(scene, WAVELENGTH)
+    points = []
+    for spp in (16, 32, 64, 128, 256, 512, 1024, 2048, 4096):
+        mitsuba_scene = mi.load_dict(translator.scene_dict(caustics.PTRACER, spp))
+        mi.render(mitsuba_scene, spp=spp, seed=1)  # warm-up: compile
+        start = time.perf_counter()
+        image = np.array(mi.render(mitsuba_scene, spp=spp, seed=2), dtype=np.float64)
+        seconds = time.perf_counter() - start
+        image = image[..., 0] if image.ndim == 3 else image
+        error = rel_mse(image, reference, mask) - noise
+        points.append((seconds, error))
+        print(f"mitsuba {spp} spp: {seconds:.3f} s, relMSE {error:.3e}", flush=True)
+        if error < 5e-5:
+            break
+    results["mitsuba"] = points
+    for target in (1e-3, 1e-4):
+        tp, tm = time_at(results["prisma"], target), time_at(results["mitsuba"], target)
+        ratio = f"{tm / tp:.1f}x" if tp and tm else "n/a"
+        print(f"relMSE {target:g}: prisma {tp} s, Mitsuba {tm} s, prisma faster by {ratio}")
+        results[f"time_at_{target:g}"] = {"prisma_s": tp, "mitsuba_s": tm}
+    if "--newton" in sys.argv:
+        results["newton"] = newton(prisma, out)
+    (out / "results.json").write_text(json.dumps(results, indent=2))
+    print(f"results in {out / 'results.json'}")
+
+
+def newton(prisma, out):
+    """scenes/newton_prism.toml at 800×450: time to relMSE 1e-3 (linear sRGB, bench.py's
+    definition) against a long prisma render (16 spp with 4× the scene's light paths per pass:
+    25.6 M light paths, 16× the 1-spp render's), whose own noise is not subtracted (it adds
+    about 1/16 of the 1-spp render's relMSE)."""
+    scene = ROOT / "scenes" / "newton_prism.toml"
+    long_exr = out / "newton_long.exr"
+    subprocess.run([prisma, "render", str(scene), "--spp", "16", "--light-paths", "1600000", "--seed", "99",
+                    "-o", str(long_exr), "--quiet"], check=True)
+    mi.set_variant("scalar_rgb")
+    reference = rgb(long_exr)
+    points = []
+    for spp in (1, 2, 4, 8, 16):
+        exr, stats = out / f"newton_{spp}.exr", out / f"newton_{spp}.json"
+        subprocess.run([prisma, "render", str(scene), "--spp", str(spp), "--seed", "5", "-o", str(exr),
+                        "--quiet", "--stats", str(stats)], check=True)
+        image = rgb(exr)
+        seconds = json.loads(stats.read_text())["render_seconds"]
+        error = float(np.mean((image - reference) ** 2 / (reference ** 2 + 1e-2)))
+        points.append((seconds, error))
+        print(f"newton {spp} spp: {seconds:.2f} s, relMSE {error:.3e}", flush=True)
+        if error < 5e-4:
+            break
+    return {"points": points, "time_at_1e-3": time_at(points, 1e-3)}
+
+
+if __name__ == "__main__":
+    main()
