@@ -52,9 +52,16 @@ fn wrong_renderers_fail() {
     let all = cases::load(&validation_dir()).unwrap();
     let find = |name: &str| all.iter().find(|c| c.name == name).unwrap_or_else(|| panic!("no case {name}"));
     for (name, fault) in [
-        ("specular_spheres", Fault::SchlickFresnel),
-        ("specular_spheres", Fault::IorScale(1.01)),
-        ("specular_prism", Fault::IorScale(1.01)),
+        ("specular_spheres_prisma_cmf", Fault::SchlickFresnel),
+        ("specular_spheres_prisma_cmf", Fault::IorScale(1.01)),
+        ("specular_prism_prisma_cmf", Fault::IorScale(1.01)),
+        // Polarisation: the averaged Fresnel fails the polarised references where paths cross
+        // two or more interfaces, and the Stokes cases catch wrong frames and phases.
+        ("specular_spheres_polarized", Fault::Unpolarized),
+        ("stokes_rolled_30", Fault::TransposedRotation),
+        ("stokes_two_mirrors_skew", Fault::TransposedRotation),
+        ("stokes_gold_pair", Fault::FlippedPhase),
+        ("stokes_tir_prism", Fault::FlippedPhase),
         ("dispersion_550", Fault::IorScale(1.01)),
         // Caustics against Mitsuba's particle tracer: the floor and the screen are seen
         // obliquely, and the prism's band of light moves with the index.

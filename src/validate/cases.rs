@@ -75,6 +75,10 @@ pub struct Case {
     /// Largest |z| of the mean difference.
     #[serde(default)]
     pub max_mean_z: Option<f64>,
+    /// A systematic difference, relative to the image mean, that the mean test must not call a
+    /// bias because its cause is known and written in `why` (0 when absent: the usual case).
+    #[serde(default)]
+    pub mean_tolerance: Option<f64>,
     /// Compare only some pixels: `"diffuse_seen_directly"` keeps the pixels whose whole
     /// footprint, and their neighbours', shows a diffuse surface directly (the light tracer's
     /// references: Mitsuba's `ptracer` renders mirrors and glass black).
@@ -86,11 +90,14 @@ fn polarized_by_default() -> bool {
     true
 }
 
-/// The files of Mitsuba-referenced cases in a validation directory: the Whitted and colour cases,
-/// and the caustic cases (light tracer against Mitsuba's `ptracer`).
-pub const CASE_FILES: [&str; 2] = ["cases.toml", "caustic_cases.toml"];
+/// The files of Mitsuba-referenced cases in a validation directory: the unpolarised Whitted and
+/// colour cases, the caustic cases (light tracer against Mitsuba's `ptracer`), the polarised
+/// cases (Mitsuba's polarised variants: S0 of every glass case, and Stokes cases), and the
+/// unpolarised cases whose references go through prisma's colour pipeline.
+pub const CASE_FILES: [&str; 4] =
+    ["cases.toml", "caustic_cases.toml", "polarised_cases.toml", "colour_cases.toml"];
 
-/// Reads every case of [`CASE_FILES`] in `validation_dir` (a missing caustic file is no error).
+/// Reads every case of [`CASE_FILES`] in `validation_dir` (only `cases.toml` must exist).
 pub fn load(validation_dir: &Path) -> Result<Vec<Case>, ValidateError> {
     let mut all = Vec::new();
     for (index, file) in CASE_FILES.iter().enumerate() {

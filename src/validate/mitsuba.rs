@@ -5,7 +5,7 @@
 use std::path::Path;
 
 use super::cases::{self, Case};
-use super::metrics::{compare_masked, Comparison, Planes, Z_OUTLIER};
+use super::metrics::{compare_with, Comparison, Options, Planes, Z_OUTLIER};
 use super::{CaseResult, Check, ValidateError};
 use crate::integrator::Fault;
 use crate::output::exr::read_exr;
@@ -67,6 +67,28 @@ pub fn run_case(
         })
     };
     let (ref_a, ref_b) = (read(&case.references[0])?, read(&case.references[1])?);
+    // Variance images beside the references (<name>_var.exr: the per-pixel variance of each
+    // reference, a mean of many passes), when both were made: the variance of (a + b)/2 is
+    // (var_a + var_b)/4, and a block mean of f² pixels has 1/f² of their mean variance.
+    let variance_path =
+        |reference: &str| reference.strip_suffix(".exr").map(|stem| format!("{stem}_var.exr"));
+    let reference_variance = match (variance_path(&case.references[0]), variance_path(&case.references[1])) {
+        (Some(a), Some(b)) if validation_dir.join(&a).is_file() && validation_dir.join(&b).is_file() => {
+            let (var_a, var_b) = (read(&a)?, read(&b)?);
+            let scale = 0.25 / (options.downsample * options.downsample) as f64;
+            Some(Planes {
+                width: var_a.width,
+                height: var_a.height,
+                data: var_a
+                    .data
+                    .iter()
+                    .zip(&var_b.data)
+                    .map(|(x, y)| x.iter().zip(y).map(|(p, q)| scale * (p + q)).collect())
+                    .collect(),
+            })
+        }
+        _ => None,
+    };
 
     let scene_path = validation_dir.join(&case.scene);
     let mut scene = crate::scene::load(&scene_path).map_err(|e| input(e.to_string()))?;
@@ -114,7 +136,17 @@ pub fn run_case(
         renders.push(Planes { width: ref_a.width, height: ref_a.height, data });
     }
     let mask = case.mask.as_ref().map(|_| diffuse_seen_directly(&scene));
-    let comparison = compare_masked(&renders[0], &renders[1], &ref_a, &ref_b, mask.as_deref());
+    let comparison = compare_with(
+        &renders[0],
+        &renders[1],
+        &ref_a,
+        &ref_b,
+        &Options {
+            mask: mask.as_deref(),
+            reference_variance: reference_variance.as_ref(),
+            mean_tolerance: case.mean_tolerance.unwrap_or(0.0),
+        },
+    );
     let checks = vec![
         Check {
             metric: "relMSE beyond noise".into(),

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Renders the Mitsuba 3 reference images of validation/cases.toml, of
-validation/mitsuba/polarised_cases.toml and of validation/mitsuba/prisma_colour_cases.toml, with
+validation/polarised_cases.toml and of validation/colour_cases.toml, with
 provenance.
 
 For every case: two references at independent seeds (references/<case>_seed1.exr, _seed2.exr,
@@ -53,8 +53,8 @@ sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 import translate  # noqa: E402
 
 VALIDATION = pathlib.Path(__file__).resolve().parents[1]
-CASE_FILES = [VALIDATION / "cases.toml", VALIDATION / "mitsuba" / "polarised_cases.toml",
-              VALIDATION / "mitsuba" / "prisma_colour_cases.toml"]
+CASE_FILES = [VALIDATION / "cases.toml", VALIDATION / "polarised_cases.toml",
+              VALIDATION / "colour_cases.toml", VALIDATION / "mitsuba" / "mitsuba_pipeline_cases.toml"]
 SEEDS = (1, 2)
 
 # Infinite planes: the references of cases.toml were rendered with 1000-unit rectangles; the
@@ -111,7 +111,7 @@ MITSUBA_SETTINGS.update({
     "stokes_tir_prism": dict(_STOKES),
     "stokes_polarizers": dict(_STOKES),
 })
-# Unpolarised, through prisma's colour pipeline (prisma_colour_cases.toml).
+# Unpolarised, through prisma's colour pipeline (colour_cases.toml).
 _PRISMA_CMF = dict(variant="llvm_ad_spectral", film="prisma_xyz", spp_per_pass=256, passes=64,
                    plane_half_size=PLANE_HALF_SIZE_POLARISED)
 MITSUBA_SETTINGS.update({
