@@ -10,11 +10,15 @@ Measures, with the same inputs for both renderers:
    passes each, in three alternating rounds of five; Mitsuba's JIT-compiling passes are excluded.
 2. Rendering: render time, samples per second and time to equal error on (a) a specular-only
    glass scene, where Mitsuba's path tracer computes exactly Whitted, and (b) the TP6 mirror + glass
-   scene, where Mitsuba runs the Whitted integrator of validation/mitsuba/whitted.py. Mitsuba runs
-   llvm_ad_spectral with its independent, ldsampler and multijitter samplers (the comparison is
-   against the fastest of them) and scalar_spectral. The error is the relative MSE against the
-   converged reference (the mean of the two committed Mitsuba references) minus the reference's own
-   noise. Stratified samplers converge faster than 1/N, so no single efficiency constant describes
+   scene, where Mitsuba runs the Whitted integrator of validation/mitsuba/whitted.py; each twice,
+   like with like: unpolarised (prisma --unpolarized against Mitsuba's llvm_ad_spectral and
+   scalar_spectral) and polarised (prisma's default against llvm_ad_spectral_polarized and
+   scalar_spectral_polarized). Mitsuba runs its independent, ldsampler and multijitter samplers (the
+   comparison is against the fastest of them). Both renderers' images go through prisma's colour
+   pipeline (Mitsuba's specfilm with prisma's CIE table, translate.prisma_rgb), as the references
+   do: the error is the relative MSE against the converged reference of that mode (the mean of the
+   two committed `<case>_prisma_cmf` or `<case>_polarized` Mitsuba references, rendered with the
+   same translation) minus the reference's own noise. Stratified samplers converge faster than 1/N, so no single efficiency constant describes
    them: the time to reach each target error is interpolated log-log between sample counts, and the
    speed ratio at equal error is t_mitsuba / t_prisma at that error.
 
@@ -22,6 +26,7 @@ Run from the repository root after validation/setup.sh and `cargo build --releas
   export DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM-19.so
   validation/.venv/bin/python validation/bench/bench.py            # writes validation/bench/RESULTS.md
   validation/.venv/bin/python validation/bench/bench.py --quick    # smaller, for a smoke test
+  ... bench.py --skip-rays --modes polarised                          # part of it
 """
 
 import argparse
@@ -49,16 +54,22 @@ import translate  # noqa: E402
 # stratified ones, so that the comparison is against its best configuration, not its default.
 # Sample counts a factor of 2 apart, so that the log-log interpolation between them follows the
 # error curves closely (stratified samplers' errors fall faster than 1/N and not as a power law).
+# "llvm" and "scalar" stand for the mode's variants (MODES).
 RENDERERS = [
     ("prisma", "sobol-owen", [1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024]),
-    ("llvm_ad_spectral", "independent", [4, 16, 64, 256, 1024, 4096]),
+    ("llvm", "independent", [4, 16, 64, 256, 1024, 4096]),
     # ldsampler rounds its sample count up to a power of 4 (8 renders 16 samples), and
     # multijitter stratifies best on perfect squares (it rounds 32 up to 5 × 7 = 35, which
     # converges worse than 64): powers of 4 for both, their best counts.
-    ("llvm_ad_spectral", "ldsampler", [4, 16, 64, 256, 1024, 4096]),
-    ("llvm_ad_spectral", "multijitter", [4, 16, 64, 256, 1024, 4096]),
-    ("scalar_spectral", "independent", [4, 16]),
+    ("llvm", "ldsampler", [4, 16, 64, 256, 1024, 4096]),
+    ("llvm", "multijitter", [4, 16, 64, 256, 1024, 4096]),
+    ("scalar", "independent", [4, 16]),
 ]
+# mode: (prisma flag, Mitsuba's llvm and scalar variants, suffix of the references' case name)
+MODES = {
+    "unpolarised": ("--unpolarized", "llvm_ad_spectral", "scalar_spectral", "_prisma_cmf"),
+    "polarised": ("--polarized", "llvm_ad_spectral_polarized", "scalar_spectral_polarized", "_polarized"),
+}
 # Error levels (relMSE beyond the reference's noise) at which the times are compared: a preview
 # (1e-3), a clean image (1e-4) and a converged one (1e-5; both references' noise is below 2.2e-6).
 TARGETS = [1e-3, 1e-4, 1e-5]
@@ -206,17 +217,17 @@ def timing_repeats(spp):
     return 3 if spp <= 256 else 1
 
 
-def prisma_render(prisma, scene, spp, out_dir):
+def prisma_render(prisma, scene, spp, out_dir, mode_flag):
     """(render seconds, process wall seconds, image): the render time excludes loading the scene
     and writing the images, as Mitsuba's does (its scene is loaded before the clock starts). The
     best of `timing_repeats` runs; the image is the same every run (same seed)."""
-    out = out_dir / f"prisma_{scene.stem}_{spp}.exr"
-    stats = out_dir / f"prisma_{scene.stem}_{spp}.json"
+    out = out_dir / f"prisma_{scene.stem}_{spp}{mode_flag}.exr"
+    stats = out_dir / f"prisma_{scene.stem}_{spp}{mode_flag}.json"
     best = (float("inf"), float("inf"))
     for _ in range(timing_repeats(spp)):
         start = time.perf_counter()
         subprocess.run([prisma, "render", str(scene), "--spp", str(spp), "-o", str(out), "--quiet", "--seed",
-                        "7", "--stats", str(stats)], check=True)
+                        "7", "--stats", str(stats), mode_flag], check=True)
         wall = time.perf_counter() - start
         best = min(best, (json.loads(stats.read_text())["render_seconds"], wall))
     return best[0], best[1], read_exr(out, ["R", "G", "B"])
@@ -227,8 +238,9 @@ def mitsuba_render(variant, sampler, prisma, scene_path, integrator_kind, spp, e
     scene = translate.PrismaScene.load(scene_path, export_dir, prisma)
     integrator = (translate.whitted_integrator if integrator_kind == "whitted" else translate.path_integrator)(
         scene.max_depth)
-    mitsuba_scene = mi.load_dict(translate.Translator(scene, None, False).scene_dict(integrator, spp,
-                                                                                      sampler=sampler))
+    # The references' translation: graded planes, prisma's colour pipeline.
+    translator = translate.Translator(scene, None, False, plane_half_size="graded")
+    mitsuba_scene = mi.load_dict(translator.scene_dict(integrator, spp, sampler=sampler, film="prisma_xyz"))
     # The sample count the sampler really takes (ldsampler rounds up to a power of 4).
     actual_spp = int(mitsuba_scene.sensors()[0].sampler().sample_count())
     timings, images = [], []
@@ -236,7 +248,11 @@ def mitsuba_render(variant, sampler, prisma, scene_path, integrator_kind, spp, e
         start = time.perf_counter()
         images.append(np.array(mi.render(mitsuba_scene, spp=actual_spp, seed=11 + k), dtype=np.float64))
         timings.append(time.perf_counter() - start)
-    return actual_spp, min(timings[1:]), images[1][..., :3]
+    film = mitsuba_scene.sensors()[0].film()
+    channels = [film.bitmap().struct_()[i].name for i in range(images[1].shape[-1])]
+    # prisma's matrix on the XYZ film (not timed: prisma's own conversion is a per-pixel step too).
+    rgb, names = translate.prisma_rgb(images[1], channels)
+    return actual_spp, min(timings[1:]), np.stack([rgb[..., names.index(c)] for c in "RGB"], -1)
 
 
 def time_to_error(points, target):
@@ -264,6 +280,8 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="small mesh, few sample counts")
     parser.add_argument("--out", type=pathlib.Path, default=REPO / "validation" / "bench" / "RESULTS.md")
+    parser.add_argument("--skip-rays", action="store_true", help="skip the ray-throughput part")
+    parser.add_argument("--modes", nargs="+", choices=list(MODES), default=list(MODES))
     args = parser.parse_args()
     prisma = translate.find_prisma()
     rng = np.random.default_rng(1)
@@ -271,80 +289,90 @@ def main():
     with tempfile.TemporaryDirectory() as tmp:
         tmp = pathlib.Path(tmp)
         mi.set_variant("llvm_ad_spectral")
-        obj = tmp / "mesh.obj"
-        triangles = displaced_sphere(obj, 120 if args.quick else 708)
-        ray_rows = []
-        for kind, rays in ray_sets(200_000 if args.quick else 1_000_000, rng).items():
-            ray_file = tmp / f"{kind}.bin"
-            rays.tofile(ray_file)
-            p, m = best_of_rounds(prisma, obj, ray_file, rays)
-            ray_rows.append((kind, len(rays), p, m))
-            print(f"rays {kind}: prisma packets {p['closest_mrays_s']:.2f} / {p['any_mrays_s']:.2f} Mrays/s, "
-                  f"single rays {p['single_closest_mrays_s']:.2f} / {p['single_any_mrays_s']:.2f}, "
-                  f"Mitsuba {m['closest']:.2f} / {m['any']:.2f} Mrays/s (closest / any); "
-                  f"hits {p['hits']} (packets {p['packet_hits']}) vs {m['hits']}", flush=True)
+        ray_rows, triangles = [], 0
+        if not args.skip_rays:
+            obj = tmp / "mesh.obj"
+            triangles = displaced_sphere(obj, 120 if args.quick else 708)
+            for kind, rays in ray_sets(200_000 if args.quick else 1_000_000, rng).items():
+                ray_file = tmp / f"{kind}.bin"
+                rays.tofile(ray_file)
+                p, m = best_of_rounds(prisma, obj, ray_file, rays)
+                ray_rows.append((kind, len(rays), p, m))
+                print(f"rays {kind}: prisma packets {p['closest_mrays_s']:.2f} / {p['any_mrays_s']:.2f} Mrays/s, "
+                      f"single rays {p['single_closest_mrays_s']:.2f} / {p['single_any_mrays_s']:.2f}, "
+                      f"Mitsuba {m['closest']:.2f} / {m['any']:.2f} Mrays/s (closest / any); "
+                      f"hits {p['hits']} (packets {p['packet_hits']}) vs {m['hits']}", flush=True)
 
-        for title, case, kind in CASES:
-            scene_path = REPO / "validation" / "scenes" / f"{case}.toml"
-            references = [read_exr(REPO / "validation" / "references" / f"{case}_seed{k}.exr", ["R", "G", "B"])
-                          for k in (1, 2)]
-            reference = 0.5 * (references[0] + references[1])
-            floor = reference_noise(*references)
-            pixels = reference.shape[0] * reference.shape[1]
-            # (renderer, sampler) -> [(spp, render seconds, process wall seconds or None, relMSE)]
-            result = {}
-            for renderer, sampler, levels in RENDERERS:
-                if renderer == "scalar_spectral" and kind == "whitted":
-                    continue  # Python integrators do not run in scalar variants
-                levels = [spp for spp in levels if not args.quick or spp <= 16]
-                for spp in levels:
-                    if renderer == "prisma":
-                        seconds, wall, image = prisma_render(prisma, scene_path, spp, tmp)
-                    else:
-                        spp, seconds, image = mitsuba_render(renderer, sampler, prisma, scene_path, kind, spp,
-                                                             tmp / f"export_{case}")
-                        wall = None
-                    error = rel_mse(image, reference)
-                    result.setdefault((renderer, sampler), []).append((spp, seconds, wall, error))
-                    print(f"{case} {renderer} {sampler} spp {spp}: {seconds:.3f} s, relMSE {error:.3e}", flush=True)
-            rows.append((title, case, pixels, floor, result))
+        for mode in args.modes:
+            flag, llvm_variant, scalar_variant, suffix = MODES[mode]
+            for title, case, kind in CASES:
+                scene_path = REPO / "validation" / "scenes" / f"{case}.toml"
+                references = [read_exr(REPO / "validation" / "references" / f"{case}{suffix}_seed{k}.exr",
+                                       ["R", "G", "B"]) for k in (1, 2)]
+                reference = 0.5 * (references[0] + references[1])
+                floor = reference_noise(*references)
+                pixels = reference.shape[0] * reference.shape[1]
+                # (renderer, sampler) -> [(spp, render seconds, process wall seconds or None, relMSE)]
+                result = {}
+                for renderer, sampler, levels in RENDERERS:
+                    variant = {"llvm": llvm_variant, "scalar": scalar_variant}.get(renderer, renderer)
+                    if renderer == "scalar" and kind == "whitted":
+                        continue  # Python integrators do not run in scalar variants
+                    levels = [spp for spp in levels if not args.quick or spp <= 16]
+                    for spp in levels:
+                        if renderer == "prisma":
+                            seconds, wall, image = prisma_render(prisma, scene_path, spp, tmp, flag)
+                        else:
+                            spp, seconds, image = mitsuba_render(variant, sampler, prisma, scene_path, kind, spp,
+                                                                 tmp / f"export_{case}")
+                            wall = None
+                        error = rel_mse(image, reference)
+                        result.setdefault((variant, sampler), []).append((spp, seconds, wall, error))
+                        print(f"{mode} {case} {variant} {sampler} spp {spp}: {seconds:.3f} s, relMSE {error:.3e}",
+                              flush=True)
+                rows.append((mode, title, case, suffix, pixels, floor, result))
 
     lines = [
         "# prisma vs Mitsuba 3: benchmark results",
         "",
         f"Date: {datetime.date.today().isoformat()}. Machine: {machine()}.",
         f"Mitsuba {mi.__version__}; prisma `{prisma}` (commit {prisma_commit()}). Command: "
-        f"`validation/.venv/bin/python validation/bench/bench.py{' --quick' if args.quick else ''}`.",
+        f"`validation/.venv/bin/python validation/bench/bench.py{' ' if sys.argv[1:] else ''}{' '.join(sys.argv[1:])}`.",
         "",
         "Where the time goes and what the next factor would come from: [PROFILE.md](PROFILE.md).",
         "",
-        f"## Ray throughput on a {triangles:,}-triangle mesh (Mrays/s, all cores, best of 15 passes in 3 "
-        f"alternating rounds)",
-        "",
-        "prisma traces the rays in packets of 16 consecutive rays (`Geometry::intersect_packet` and "
-        "`occluded_packet`, as Mitsuba hands Embree 16 rays at a time) and, for comparison, one by one "
-        "(`intersect`, `occluded`); the ratio is that of the packets to Embree.",
-        "",
-        "| rays | count | query | prisma, 16-ray packets | prisma, single rays | Mitsuba (Embree) | ratio | "
-        "hits prisma / Mitsuba |",
-        "|---|---|---|---|---|---|---|---|",
     ]
-    for kind, count, p, m in ray_rows:
-        for query, name, hits in (("closest", "closest hit", "packet_hits"), ("any", "any hit", "packet_occluded")):
-            lines.append(f"| {kind} | {count:,} | {name} | {p[f'{query}_mrays_s']:.2f} | "
-                         f"{p[f'single_{query}_mrays_s']:.2f} | {m[query]:.2f} | "
-                         f"{p[f'{query}_mrays_s'] / m[query]:.2f} | {p[hits]} / {m['hits']} |")
-    built = ray_rows[0][2]
-    lines += [f"", f"prisma BVH build: {built['build_s']:.2f} s for {triangles:,} triangles (2 threads); memory "
-                   f"{built['bvh_bytes_per_triangle']:.1f} bytes per triangle for the nodes, "
-                   f"{built['total_bytes_per_triangle']:.1f} with the leaf packets that copy the vertices.", ""]
-    for title, case, pixels, floor, result in rows:
-        lines += [f"## {title} (`validation/scenes/{case}.toml`)", "",
-                  f"relMSE against the converged reference (the mean of the two committed 65,536-spp Mitsuba "
-                  f"renders), minus that reference's own noise ({floor:.2e}, estimated from the difference of "
-                  f"the two). Render time excludes scene loading and image writing for both renderers (and "
-                  f"Mitsuba's JIT compilation: its first render is not timed); it is the best of three renders "
-                  f"up to 256 spp, of one above. prisma's process wall time is also shown.", "",
+    if ray_rows:
+        lines += [
+            f"## Ray throughput on a {triangles:,}-triangle mesh (Mrays/s, all cores, best of 15 passes in 3 "
+            f"alternating rounds)",
+            "",
+            "prisma traces the rays in packets of 16 consecutive rays (`Geometry::intersect_packet` and "
+            "`occluded_packet`, as Mitsuba hands Embree 16 rays at a time) and, for comparison, one by one "
+            "(`intersect`, `occluded`); the ratio is that of the packets to Embree.",
+            "",
+            "| rays | count | query | prisma, 16-ray packets | prisma, single rays | Mitsuba (Embree) | ratio | "
+            "hits prisma / Mitsuba |",
+            "|---|---|---|---|---|---|---|---|",
+        ]
+        for kind, count, p, m in ray_rows:
+            for query, name, hits in (("closest", "closest hit", "packet_hits"), ("any", "any hit", "packet_occluded")):
+                lines.append(f"| {kind} | {count:,} | {name} | {p[f'{query}_mrays_s']:.2f} | "
+                             f"{p[f'single_{query}_mrays_s']:.2f} | {m[query]:.2f} | "
+                             f"{p[f'{query}_mrays_s'] / m[query]:.2f} | {p[hits]} / {m['hits']} |")
+        built = ray_rows[0][2]
+        lines += ["", f"prisma BVH build: {built['build_s']:.2f} s for {triangles:,} triangles (2 threads); memory "
+                      f"{built['bvh_bytes_per_triangle']:.1f} bytes per triangle for the nodes, "
+                      f"{built['total_bytes_per_triangle']:.1f} with the leaf packets that copy the vertices.", ""]
+    for mode, title, case, suffix, pixels, floor, result in rows:
+        lines += [f"## {title}, {mode} (`validation/scenes/{case}.toml`)", "",
+                  f"prisma `{MODES[mode][0]}` against Mitsuba's `{MODES[mode][1]}` (and `{MODES[mode][2]}` where "
+                  f"it runs). relMSE against the converged reference (the mean of the two committed "
+                  f"`{case}{suffix}` Mitsuba renders, same translation, prisma's colour pipeline on both sides), "
+                  f"minus that reference's own noise ({floor:.2e}, estimated from the difference of the two). "
+                  f"Render time excludes scene loading and image writing for both renderers (and Mitsuba's JIT "
+                  f"compilation: its first render is not timed); it is the best of three renders up to 256 spp, "
+                  f"of one above. prisma's process wall time is also shown.", "",
                   "| renderer | sampler | spp | render time (s) | process wall (s) | samples/s | relMSE |",
                   "|---|---|---|---|---|---|---|"]
         for (renderer, sampler), points in result.items():
@@ -368,7 +396,7 @@ def main():
         prisma_key = next(k for k in result if k[0] == "prisma")
         for target in TARGETS:
             llvm = {k: times[k, target] for k in result
-                    if k[0] == "llvm_ad_spectral" and np.isfinite(times[k, target])}
+                    if k[0] == MODES[mode][1] and np.isfinite(times[k, target])}
             if llvm:
                 best = min(llvm, key=llvm.get)
                 lines.append(f"- relMSE {target:.0e}: prisma is **{llvm[best] / times[prisma_key, target]:.2f}×** "
