@@ -31,14 +31,7 @@ import translate  # noqa: E402
 VALIDATION = pathlib.Path(__file__).resolve().parents[1]
 
 
-def read_exr(path):
-    """{channel name: float64 array} of an EXR (multi-layer names kept, e.g. "XYZ.Y")."""
-    bitmap = mi.Bitmap(str(path))
-    data = np.array(bitmap, dtype=np.float64)
-    if data.ndim == 2:
-        data = data[..., None]
-    names = [bitmap.struct_()[i].name for i in range(data.shape[-1])]
-    return {name: data[..., i] for i, name in enumerate(names)}
+read_exr = translate.read_exr
 
 
 def prisma_renders(case, spp, seeds, out_dir, prisma):
@@ -89,8 +82,8 @@ def compare_case(case, spp, seeds, out_dir, prisma, references=None):
         sigma = np.sqrt(sigma_ours**2 + sigma_ref**2)
         diff = ours - ref
         # 1e-4 of the value: float32 accumulation in both renderers (Mitsuba sums passes of many samples).
-    tolerance = 3.0 * sigma + 1e-4 * np.abs(ref)
-    within = np.mean(np.abs(diff) <= tolerance)
+        tolerance = 3.0 * sigma + 1e-4 * np.abs(ref)
+        within = np.mean(np.abs(diff) <= tolerance)
         bright = ref > 0.01 * max(ref.mean(), 1e-12)
         rel = np.abs(diff[bright]) / ref[bright]
         rows.append((channel, ours.mean() / ref.mean(), refs[0][channel].mean() / refs[1][channel].mean(),

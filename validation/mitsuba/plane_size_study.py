@@ -43,13 +43,7 @@ WAVELENGTH_NM = 550.0
 CASES = [("tp6_point", "whitted", False), ("tp6_quad", "whitted", False), ("stokes_brewster", "path", True)]
 
 
-def read_exr(path):
-    bitmap = mi.Bitmap(str(path))
-    data = np.array(bitmap, dtype=np.float64)
-    if data.ndim == 2:
-        data = data[..., None]
-    names = [bitmap.struct_()[i].name for i in range(data.shape[-1])]
-    return {name: data[..., i] for i, name in enumerate(names)}
+read_exr = translate.read_exr
 
 
 def s0_channel(image):

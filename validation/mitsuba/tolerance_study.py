@@ -52,13 +52,7 @@ MONO_WAVELENGTHS = [450.0, 550.0, 650.0]
 FINE_NM = np.arange(translate.LAMBDA_MIN_NM, translate.LAMBDA_MAX_NM + 0.025, 0.05)
 
 
-def read_exr(path):
-    bitmap = mi.Bitmap(str(path))
-    data = np.array(bitmap, dtype=np.float64)
-    if data.ndim == 2:
-        data = data[..., None]
-    names = [bitmap.struct_()[i].name for i in range(data.shape[-1])]
-    return {name: data[..., i] for i, name in enumerate(names)}
+read_exr = translate.read_exr
 
 
 def unpolarised_flag(prisma):

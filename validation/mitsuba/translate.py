@@ -163,6 +163,16 @@ class TranslationError(Exception):
     """A prisma feature that the translation cannot express in Mitsuba."""
 
 
+def read_exr(path):
+    """{channel name: float64 array (H, W)} of an EXR (multi-layer names kept, e.g. "XYZ.Y")."""
+    bitmap = mi.Bitmap(str(path))
+    data = np.array(bitmap, dtype=np.float64)
+    if data.ndim == 2:
+        data = data[..., None]
+    names = [bitmap.struct_()[i].name for i in range(data.shape[-1])]
+    return {name: data[..., i] for i, name in enumerate(names)}
+
+
 def find_prisma():
     """The prisma binary: $PRISMA, else target/release/prisma of the repository, else PATH."""
     if os.environ.get("PRISMA"):
