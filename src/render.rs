@@ -112,10 +112,17 @@ pub enum RenderError {
     NonFinite(#[from] NonFinitePixel),
 }
 
-/// Bytes of memory a render of `width`×`height` pixels of `layout` on `threads` threads needs, with its
-/// EXR and PNG output ([`memory::estimate`]).
-pub fn memory_needed(width: u32, height: u32, layout: &FilmLayout, threads: usize) -> u64 {
+/// Bytes of memory a render of `width`×`height` pixels of `layout` on `threads` threads needs,
+/// with its EXR and PNG output ([`memory::estimate`]), and with the light tracer's f64 splat sums
+/// (XYZ per Stokes component and the band values) when `caustics` is on.
+pub fn memory_needed(width: u32, height: u32, layout: &FilmLayout, threads: usize, caustics: bool) -> u64 {
+    let splat_sums = if caustics {
+        u64::from(width) * u64::from(height) * 8 * (3 * layout.components() + layout.band_values()) as u64
+    } else {
+        0
+    };
     memory::estimate(width, height, layout.band_values(), threads as u64 * THREAD_STACK_BYTES as u64)
+        + splat_sums
 }
 
 /// Renders `scene` (its camera decides the resolution) as `job` says.
@@ -129,7 +136,11 @@ pub fn render(scene: &Scene, job: &Job) -> Result<(Film, RenderStats), RenderErr
         0 => std::thread::available_parallelism().map_or(1, usize::from),
         n => n,
     };
-    memory::check(width, height, memory_needed(width, height, &job.layout(), threads))?;
+    memory::check(
+        width,
+        height,
+        memory_needed(width, height, &job.layout(), threads, job.settings.caustics),
+    )?;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(job.threads)
         .stack_size(THREAD_STACK_BYTES)
