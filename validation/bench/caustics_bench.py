@@ -14,6 +14,11 @@ size (JIT compilation excluded).
   export DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM-19.so
   validation/.venv/bin/python validation/bench/caustics_bench.py            # ball lens vs ptracer
   validation/.venv/bin/python validation/bench/caustics_bench.py --newton   # and the Newton prism
+  validation/.venv/bin/python validation/bench/caustics_bench.py --sampler ldsampler  # ptracer's sampler
+
+The prisma binary is $PRISMA, else target/release/prisma of this repository (translate.find_prisma).
+Mitsuba's sampler is `independent` (ptracer's usual one, and the references') unless --sampler
+names another.
 """
 
 import json
@@ -102,8 +107,11 @@ def main():
     scene = translate.PrismaScene.load(SCENE, out / "export", prisma)
     translator = caustics.CausticTranslator(scene, WAVELENGTH)
     points = []
-    for spp in (16, 32, 64, 128, 256, 512, 1024, 2048, 4096):
-        mitsuba_scene = mi.load_dict(translator.scene_dict(caustics.PTRACER, spp))
+    sampler = sys.argv[sys.argv.index("--sampler") + 1] if "--sampler" in sys.argv else "independent"
+    results["mitsuba_sampler"] = sampler
+    # From 4 spp, so that its time at relMSE 1e-3 is bracketed too.
+    for spp in (4, 8, 16, 32, 64, 128, 256, 512, 1024, 2048, 4096):
+        mitsuba_scene = mi.load_dict(translator.scene_dict(caustics.PTRACER, spp, sampler=sampler))
         mi.render(mitsuba_scene, spp=spp, seed=1)  # warm-up: compile
         start = time.perf_counter()
         image = np.array(mi.render(mitsuba_scene, spp=spp, seed=2), dtype=np.float64)
