@@ -5,9 +5,9 @@
 //! the thread count and tile schedule.
 //!
 //! With caustics on, the light tracer then traces `spp` passes of light paths (one per pixel per
-//! pass unless the settings say otherwise) in fixed blocks of [`LIGHT_PATH_BLOCK`] paths: each
-//! block draws from its own sample sequence, keyed by (seed, block), and records its splats in
-//! order; the blocks' splats are summed into one film in block order, whichever thread traced
+//! pass unless the settings say otherwise) in fixed blocks of [`LIGHT_PATH_BLOCK`] paths: light
+//! path n of the render draws point n of one sample sequence keyed by the seed
+//! ([`LightPathSequence`]), and each block records its splats in order; the blocks' splats are summed into one film in block order, whichever thread traced
 //! them, and the sums divided by the number of light paths are added to the Whitted image.
 
 use std::time::{Duration, Instant};
@@ -22,7 +22,7 @@ use crate::integrator::light_tracer::Scratch;
 use crate::integrator::{Beam, Fault, LightTracer, TraceStats, Whitted};
 use crate::memory;
 use crate::polarization::Stokes;
-use crate::sampler::{PixelKey, PixelRng};
+use crate::sampler::{LightPathSequence, PixelKey, PixelRng};
 use crate::scene::{RenderSettings, Scene};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 
@@ -258,17 +258,13 @@ fn trace_block<B: Beam>(
 ) -> (Splats, TraceStats) {
     let first = block * LIGHT_PATH_BLOCK;
     let count = LIGHT_PATH_BLOCK.min(light_paths - first) as u32;
-    // The block's own sequence: (seed, block) as a "pixel" key no camera pixel can have.
-    let key = PixelKey::new(
-        job.settings.seed ^ LIGHT_PATH_SEED_SALT,
-        block as u32,
-        (1 << 31) | (block >> 32) as u32,
-    );
+    // One sequence over all the render's light paths, whichever block traces them.
+    let sequence = LightPathSequence::new(job.settings.seed ^ LIGHT_PATH_SEED_SALT);
     let mut splats = Splats::default();
     let mut scratch = Scratch::<B>::default();
     let mut stats = TraceStats::default();
     for path in 0..count {
-        let mut rng = PixelRng::for_sample(key, path);
+        let mut rng = sequence.path(first + u64::from(path));
         tracer.trace_path::<B>(&mut rng, layout, &mut splats, &mut scratch, &mut stats);
     }
     (splats, stats)

@@ -43,6 +43,11 @@ pub struct Geometry {
     bvh: Bvh,
     /// The finite shapes in leaf order.
     packets: Vec<Packet>,
+    /// The packets of the BVH's only leaf, when it has one (a scene of a handful of finite
+    /// shapes, which the builder keeps in one leaf): rays test them directly, without preparing
+    /// the 8-wide box tests for a root node whose one box holds everything. A third of the
+    /// instructions of a ray in the bundled scenes went to that traversal.
+    single_leaf: Option<(u32, u32)>,
 }
 
 impl Geometry {
@@ -100,7 +105,11 @@ impl Geometry {
             runs[leaf]
         });
         let packets = super::huge_pages::on_huge_pages(packets);
-        Self { shapes, meshes, planes: PlanePacket::pack(&planes), bvh, packets }
+        let single_leaf = match bvh.leaves()[..] {
+            [leaf] => Some(leaf),
+            _ => None,
+        };
+        Self { shapes, meshes, planes: PlanePacket::pack(&planes), bvh, packets, single_leaf }
     }
 
     /// The nearest hit with t in (0, `t_max`).
@@ -109,9 +118,14 @@ impl Geometry {
         // Prepared on the first triangle packet: rays that meet only spheres never need it.
         let mut sheared: Option<ShearedRay> = None;
         let mut nearest: Option<Nearest> = None;
-        let found = self.bvh.closest_hit(ray, t_limit, |first, count, t_limit| {
-            self.nearest_in_leaf(ray, &mut sheared, first, count, t_limit, &mut nearest)
-        });
+        let found = match self.single_leaf {
+            Some((first, count)) => {
+                self.nearest_in_leaf(ray, &mut sheared, first, count, t_limit, &mut nearest).is_some()
+            }
+            None => self.bvh.closest_hit(ray, t_limit, |first, count, t_limit| {
+                self.nearest_in_leaf(ray, &mut sheared, first, count, t_limit, &mut nearest)
+            }),
+        };
         if found {
             nearest.and_then(|nearest| self.hit_record(nearest))
         } else {
@@ -271,9 +285,12 @@ impl Geometry {
             return true;
         }
         let mut sheared: Option<ShearedRay> = None;
-        self.bvh.any_hit(ray, t_max, |first, count, t_max| {
-            self.occluded_in_leaf(ray, &mut sheared, first, count, t_max)
-        })
+        match self.single_leaf {
+            Some((first, count)) => self.occluded_in_leaf(ray, &mut sheared, first, count, t_max),
+            None => self.bvh.any_hit(ray, t_max, |first, count, t_max| {
+                self.occluded_in_leaf(ray, &mut sheared, first, count, t_max)
+            }),
+        }
     }
 
     /// [`Self::occluded`] for up to [`PACKET_RAYS`] rays traced together (`rays[i]` with

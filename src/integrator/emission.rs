@@ -82,16 +82,19 @@ impl Cone {
 }
 
 /// The union of `cones` sampled as a mixture in proportion to their solid angles (`total` is
-/// their sum): a direction and its density (sr⁻¹).
-fn sample_cones(cones: &[Cone], total: f32, u_cone: f32, u: (f32, f32)) -> (Vec3, f32) {
-    let mut pick = u_cone * total;
+/// their sum): a direction and its density (sr⁻¹). `next` chooses the cone when there are
+/// several.
+fn sample_cones(cones: &[Cone], total: f32, next: &mut impl FnMut() -> f32, u: (f32, f32)) -> (Vec3, f32) {
     let mut chosen = cones[cones.len() - 1];
-    for cone in cones {
-        if pick < cone.solid_angle() {
-            chosen = *cone;
-            break;
+    if cones.len() > 1 {
+        let mut pick = next() * total;
+        for cone in cones {
+            if pick < cone.solid_angle() {
+                chosen = *cone;
+                break;
+            }
+            pick -= cone.solid_angle();
         }
-        pick -= cone.solid_angle();
     }
     let dir = chosen.sample(u);
     (dir, cones_pdf(cones, total, dir))
@@ -201,32 +204,35 @@ impl Emission {
         self.sources.is_empty()
     }
 
-    /// The start of a light path from uniform numbers: `u_light` chooses the light, `u_dir`
-    /// the direction (a beam: the position), `u_more` a cone and a position on a quad.
-    /// `cones` is scratch space. `None` when the drawn direction carries no light.
+    /// The start of a light path: `u_dir` chooses the direction (a beam: the position), and
+    /// `next` supplies further uniform numbers, drawn only for the choices this scene has: the
+    /// light (when there are several), the cone (when there are several) and the position on a
+    /// quad light, in that order. `cones` is scratch space. `None` when the drawn direction
+    /// carries no light.
     pub fn sample(
         &self,
         scene: &Scene,
-        u_light: f32,
         u_dir: (f32, f32),
-        u_more: [f32; 3],
+        next: &mut impl FnMut() -> f32,
         cones: &mut Vec<Cone>,
     ) -> Option<Emitted> {
-        let mut pick = u_light;
         let mut chosen = self.sources.last()?;
-        for source in &self.sources {
-            if pick < source.probability {
-                chosen = source;
-                break;
+        if self.sources.len() > 1 {
+            let mut pick = next();
+            for source in &self.sources {
+                if pick < source.probability {
+                    chosen = source;
+                    break;
+                }
+                pick -= source.probability;
             }
-            pick -= source.probability;
         }
         let light = &scene.lights[chosen.light];
         let (origin, normal, dir, weight) = match light {
             Light::Point(point) => {
                 let (dir, pdf) = match &chosen.directions {
                     Directions::Own => (uniform_sphere(u_dir), 1.0 / FOUR_PI),
-                    Directions::Cones { cones, total } => sample_cones(cones, *total, u_more[0], u_dir),
+                    Directions::Cones { cones, total } => sample_cones(cones, *total, next, u_dir),
                 };
                 (point.position, None, dir, 1.0 / pdf)
             }
@@ -236,13 +242,14 @@ impl Emission {
                         let own = Cone { axis: spot.axis, cos_half: spot.cos_cutoff() };
                         (own.sample(u_dir), 1.0 / own.solid_angle())
                     }
-                    Directions::Cones { cones, total } => sample_cones(cones, *total, u_more[0], u_dir),
+                    Directions::Cones { cones, total } => sample_cones(cones, *total, next, u_dir),
                 };
                 (spot.position, None, dir, spot.falloff(dir) / pdf)
             }
             Light::Quad(quad) => {
-                let origin = quad.quad.point_at(u_more[1], u_more[2]);
-                let (dir, pdf) = self.quad_direction(quad, origin, u_more[0], u_dir, cones);
+                let (u_x, u_y) = (next(), next());
+                let origin = quad.quad.point_at(u_x, u_y);
+                let (dir, pdf) = self.quad_direction(quad, origin, next, u_dir, cones);
                 let cos_theta = dir.dot(quad.emit_normal);
                 (origin, Some(quad.emit_normal), dir, quad.quad.area() * cos_theta.max(0.0) / pdf)
             }
@@ -268,7 +275,7 @@ impl Emission {
         &self,
         quad: &QuadLight,
         origin: Vec3,
-        u_cone: f32,
+        next: &mut impl FnMut() -> f32,
         u: (f32, f32),
         cones: &mut Vec<Cone>,
     ) -> (Vec3, f32) {
@@ -291,7 +298,7 @@ impl Emission {
             total = f32::INFINITY;
         }
         if total < TAU && !cones.is_empty() {
-            return sample_cones(cones, total, u_cone, u);
+            return sample_cones(cones, total, next, u);
         }
         let normal = quad.emit_normal;
         let radius = u.0.sqrt();

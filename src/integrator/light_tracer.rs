@@ -63,7 +63,7 @@ use crate::optics::{reflect, refract};
 use crate::polarization::frame::{any_perpendicular, s_axis};
 use crate::polarization::mueller::JonesDiagonal;
 use crate::polarization::Mueller;
-use crate::sampler::PixelRng;
+use crate::sampler::LightPathRng;
 use crate::scene::{RenderSettings, Scene};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, N_LAMBDA};
 
@@ -152,23 +152,24 @@ impl<'a> LightTracer<'a> {
     /// `splats`.
     pub fn trace_path<B: Beam>(
         &self,
-        rng: &mut PixelRng,
+        rng: &mut LightPathRng,
         layout: &FilmLayout,
         splats: &mut Splats,
         scratch: &mut Scratch<B>,
         stats: &mut TraceStats,
     ) {
         // The direction (or a beam's position) first: the sampler stratifies dimensions 0 and 1
-        // jointly.
+        // jointly over all the render's light paths. Then only the choices this path has (the
+        // wavelengths unless monochromatic, the light among several...), so that in a
+        // monochromatic render with one light the first Fresnel choices take dimensions 2 and 3,
+        // stratified with the direction.
         let u_dir = (rng.uniform(), rng.uniform());
-        let u_lambda = rng.uniform();
-        let u_light = rng.uniform();
-        let u_more = [rng.uniform(), rng.uniform(), rng.uniform()];
         let wavelengths = match self.monochromatic_nm {
             Some(nm) => SampledWavelengths::monochromatic(nm),
-            None => SampledWavelengths::sample_visible(u_lambda, self.wavelengths),
+            None => SampledWavelengths::sample_visible(rng.uniform(), self.wavelengths),
         };
-        let Some(emitted) = self.emission.sample(self.scene, u_light, u_dir, u_more, &mut scratch.cones)
+        let Some(emitted) =
+            self.emission.sample(self.scene, u_dir, &mut || rng.uniform(), &mut scratch.cones)
         else {
             return;
         };
@@ -255,7 +256,7 @@ impl<'a> LightTracer<'a> {
         axis: Vec3,
         mueller: &Mueller,
         reference: f32,
-        rng: &mut PixelRng,
+        rng: &mut LightPathRng,
     ) {
         let dir = photon.ray.dir;
         let axis = if B::POLARIZED { axis } else { photon.frame_x };
@@ -277,7 +278,7 @@ impl<'a> LightTracer<'a> {
         parent: &Photon<B>,
         through_specular: bool,
         reference: f32,
-        rng: &mut PixelRng,
+        rng: &mut LightPathRng,
     ) {
         let strength = flux.components()[0].max_value() / reference;
         if strength.is_nan() || strength <= 0.0 {
@@ -311,7 +312,7 @@ impl<'a> LightTracer<'a> {
         wavelengths: &SampledWavelengths,
         reference: f32,
         scratch: &mut Scratch<B>,
-        rng: &mut PixelRng,
+        rng: &mut LightPathRng,
     ) {
         let dir = photon.ray.dir;
         let from_inside = dir.dot(hit.normal) > 0.0;
@@ -392,8 +393,9 @@ impl<'a> LightTracer<'a> {
             self.push(scratch, hit, out, s, flux, photon, true, reference, rng);
         } else {
             let scale = SampledSpectrum::splat(1.0 / (1.0 - p_reflect));
-            for (dir_t, beam) in refracted.into_iter().flatten() {
-                self.push(scratch, hit, dir_t, s, beam.scaled(scale), photon, true, reference, rng);
+            // By reference: moving the array out copied all of it.
+            for (dir_t, beam) in refracted.iter().flatten() {
+                self.push(scratch, hit, *dir_t, s, beam.scaled(scale), photon, true, reference, rng);
             }
         }
     }

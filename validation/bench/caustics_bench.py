@@ -9,15 +9,24 @@ relMSE is bench.py's, mean (p − m)²/(m² + 0.01), over the pixels that see th
 Each renderer renders at doubling effort; the time at a target error is interpolated in log-log
 between the two renders that bracket it. prisma's time is its render time (stats JSON, without
 loading and writing); Mitsuba's is the wall time of mi.render after a warm-up render of the same
-size (JIT compilation excluded).
+size (JIT compilation excluded). Both are the best of 3 runs of the same render (--repeat N).
+CPU time is reported beside wall time (all threads; prisma's whole process, so with loading and
+writing; Mitsuba's process during mi.render): on a machine shared with other work it varies less
+than wall time, which is what the target is stated in.
 
   export DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM-19.so
   validation/.venv/bin/python validation/bench/caustics_bench.py            # ball lens vs ptracer
   validation/.venv/bin/python validation/bench/caustics_bench.py --newton   # and the Newton prism
+  validation/.venv/bin/python validation/bench/caustics_bench.py --sampler ldsampler  # ptracer's sampler
+
+The prisma binary is $PRISMA, else target/release/prisma of this repository (translate.find_prisma).
+Mitsuba's sampler is `independent` (ptracer's usual one, and the references') unless --sampler
+names another.
 """
 
 import json
 import math
+import resource
 import pathlib
 import subprocess
 import sys
@@ -33,6 +42,8 @@ import translate  # noqa: E402
 
 SCENE = ROOT / "validation" / "scenes" / "caustic_sphere.toml"
 WAVELENGTH = 550.0
+# Each render is timed this many times and the best kept (--repeat N): the machine is shared.
+REPEATS = int(sys.argv[sys.argv.index("--repeat") + 1]) if "--repeat" in sys.argv else 3
 REFERENCES = [ROOT / "validation" / "references" / f"caustic_sphere_550_seed{s}.exr" for s in (1, 2)]
 
 
@@ -55,6 +66,12 @@ def rgb(path):
     names = [bitmap.struct_()[i].name for i in range(bitmap.channel_count())]
     image = np.array(bitmap, dtype=np.float64)
     return image[..., [names.index(c) for c in ("R", "G", "B")]]
+
+
+def children_cpu():
+    """User + system CPU seconds of the finished child processes so far."""
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return usage.ru_utime + usage.ru_stime
 
 
 def rel_mse(image, reference, mask):
@@ -81,45 +98,63 @@ def main():
 
     prisma = translate.find_prisma()
     out = pathlib.Path(tempfile.mkdtemp(prefix="caustics_bench_"))
-    points = []
+    points, cpu_points = [], []
     for spp in (1, 2, 4, 8, 16, 32, 64, 128, 256):
         exr, stats = out / f"prisma_{spp}.exr", out / f"prisma_{spp}.json"
         # Unpolarised, as Mitsuba's plain variant and the references.
-        subprocess.run([prisma, "render", str(SCENE), "--wavelength", str(WAVELENGTH), "--spp", str(spp),
-                        "--unpolarized", "--seed", "17", "-o", str(exr), "--quiet", "--stats", str(stats)],
-                       check=True)
-        seconds = json.loads(stats.read_text())["render_seconds"]
+        seconds, cpu = math.inf, math.inf
+        for _ in range(REPEATS):
+            before = children_cpu()
+            subprocess.run([prisma, "render", str(SCENE), "--wavelength", str(WAVELENGTH), "--spp", str(spp),
+                            "--unpolarized", "--seed", "17", "-o", str(exr), "--quiet", "--stats", str(stats)],
+                           check=True)
+            cpu = min(cpu, children_cpu() - before)
+            seconds = min(seconds, json.loads(stats.read_text())["render_seconds"])
         error = rel_mse(load(exr), reference, mask) - noise
         points.append((seconds, error))
-        print(f"prisma {spp} spp: {seconds:.3f} s, relMSE {error:.3e}", flush=True)
+        cpu_points.append((cpu, error))
+        print(f"prisma {spp} spp: {seconds:.3f} s ({cpu:.3f} CPU s), relMSE {error:.3e}", flush=True)
         if error < 5e-5:
             break
     results["prisma"] = points
+    results["prisma_cpu"] = cpu_points
 
     mi.set_variant("llvm_ad_mono")
     import caustics
     caustics.register_receiver()
     scene = translate.PrismaScene.load(SCENE, out / "export", prisma)
     translator = caustics.CausticTranslator(scene, WAVELENGTH)
-    points = []
-    for spp in (16, 32, 64, 128, 256, 512, 1024, 2048, 4096):
-        mitsuba_scene = mi.load_dict(translator.scene_dict(caustics.PTRACER, spp))
+    points, cpu_points = [], []
+    sampler = sys.argv[sys.argv.index("--sampler") + 1] if "--sampler" in sys.argv else "independent"
+    results["mitsuba_sampler"] = sampler
+    # From 4 spp, so that its time at relMSE 1e-3 is bracketed too.
+    for spp in (4, 8, 16, 32, 64, 128, 256, 512, 1024, 2048, 4096):
+        mitsuba_scene = mi.load_dict(translator.scene_dict(caustics.PTRACER, spp, sampler=sampler))
         mi.render(mitsuba_scene, spp=spp, seed=1)  # warm-up: compile
-        start = time.perf_counter()
-        image = np.array(mi.render(mitsuba_scene, spp=spp, seed=2), dtype=np.float64)
-        seconds = time.perf_counter() - start
+        seconds, cpu = math.inf, math.inf
+        for _ in range(REPEATS):
+            start, start_cpu = time.perf_counter(), time.process_time()
+            image = np.array(mi.render(mitsuba_scene, spp=spp, seed=2), dtype=np.float64)
+            seconds = min(seconds, time.perf_counter() - start)
+            cpu = min(cpu, time.process_time() - start_cpu)
         image = image[..., 0] if image.ndim == 3 else image
         error = rel_mse(image, reference, mask) - noise
         points.append((seconds, error))
-        print(f"mitsuba {spp} spp: {seconds:.3f} s, relMSE {error:.3e}", flush=True)
+        cpu_points.append((cpu, error))
+        print(f"mitsuba {spp} spp: {seconds:.3f} s ({cpu:.3f} CPU s), relMSE {error:.3e}", flush=True)
         if error < 5e-5:
             break
     results["mitsuba"] = points
+    results["mitsuba_cpu"] = cpu_points
     for target in (1e-3, 1e-4):
         tp, tm = time_at(results["prisma"], target), time_at(results["mitsuba"], target)
+        cp, cm = time_at(results["prisma_cpu"], target), time_at(results["mitsuba_cpu"], target)
         ratio = f"{tm / tp:.1f}x" if tp and tm else "n/a"
-        print(f"relMSE {target:g}: prisma {tp} s, Mitsuba {tm} s, prisma faster by {ratio}")
-        results[f"time_at_{target:g}"] = {"prisma_s": tp, "mitsuba_s": tm}
+        cpu_ratio = f"{cm / cp:.1f}x" if cp and cm else "n/a"
+        print(f"relMSE {target:g}: prisma {tp} s, Mitsuba {tm} s, prisma faster by {ratio}; "
+              f"CPU time: prisma {cp} s, Mitsuba {cm} s, {cpu_ratio}")
+        results[f"time_at_{target:g}"] = {"prisma_s": tp, "mitsuba_s": tm, "prisma_cpu_s": cp,
+                                          "mitsuba_cpu_s": cm}
     if "--newton" in sys.argv:
         results["newton"] = newton(prisma, out)
     (out / "results.json").write_text(json.dumps(results, indent=2))
