@@ -91,7 +91,7 @@ impl FixedSum {
     #[inline]
     fn negated(self) -> Self {
         let (lo, borrow) = 0u128.overflowing_sub(self.lo);
-        Self { lo, hi: (-self.hi).wrapping_sub(i64::from(borrow)) }
+        Self { lo, hi: self.hi.wrapping_neg().wrapping_sub(i64::from(borrow)) }
     }
 
     /// Adds `other`; false (leaving `self` unchanged) when the sum would leave the range.
@@ -236,8 +236,10 @@ mod tests {
         assert!(FixedSum::from_f64(2f64.powi(94)).is_none());
         let big = value(2f64.powi(94) * 0.75);
         let mut sum = big;
-        assert!(!sum.add(big), "1.5 · 2^94 is past the range");
-        assert_eq!(sum, big, "unchanged");
+        assert!(sum.add(big), "1.5 · 2^94 is within the range, |sum| < 2^95");
+        let before = sum;
+        assert!(!sum.add(big), "2.25 · 2^94 is past it");
+        assert_eq!(sum, before, "unchanged");
         // Values below the quantum's half round to zero; the smallest kept one is exact.
         assert!(value(2f64.powi(-98)).is_zero());
         assert_eq!(value(2f64.powi(-96)).to_f64(), 2f64.powi(-96));

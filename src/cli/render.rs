@@ -15,7 +15,6 @@ use prisma::output::exr::encode_exr_part;
 use prisma::output::file::{check_destination, same_file, text_into, Destination, Outputs};
 use prisma::output::png::encode_png;
 use prisma::output::OutputError;
-use prisma::part::header::{settings_json, COMMIT, VERSION};
 use prisma::part::{read_part, PartHeader, PixelWindow, SampleSet};
 use prisma::render::{render_sums, Job, RenderError};
 use prisma::scene::build::{MAX_DEPTH, MAX_LIGHT_PATHS, MAX_RESOLUTION, MAX_SPP};
@@ -236,22 +235,16 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let bands = bands.filter(|_| args.wavelength.is_none());
     let layout = FilmLayout { stokes: settings.polarized, bands, monochromatic_nm: args.wavelength };
     let threads = args.threads.unwrap_or(0) as usize;
-    let mut header = PartHeader {
-        version: VERSION.to_owned(),
-        commit: COMMIT.to_owned(),
-        scene: args.scene.display().to_string(),
-        scene_sha256: scene.digest.clone(),
-        seed: settings.seed,
-        samples: samples.clone(),
-        spp: settings.spp,
-        window,
-        display: (width, height),
-        settings: settings_json(&settings, light_paths_per_pass, &layout),
+    let mut header = PartHeader::new(
+        &args.scene.display().to_string(),
+        &scene,
+        &settings,
+        &layout,
         light_paths_per_pass,
-        wall_seconds: 0.0,
-        threads,
-        parts: 1,
-    };
+        window,
+    );
+    header.samples = samples.clone();
+    header.threads = threads;
     if let Some(prior) = &prior {
         let resumed = args.resume.as_deref().unwrap_or(Path::new("")).display();
         if let Some((what, theirs, mine)) = prior.header.mismatch(&header) {

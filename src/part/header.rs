@@ -14,7 +14,7 @@
 //! | `prisma.sumsFormat`, `prisma.sumsSha256` | present when the file holds per-pixel sums: their format and a SHA-256 of them (corruption check) |
 
 use crate::film::FilmLayout;
-use crate::scene::RenderSettings;
+use crate::scene::{RenderSettings, Scene};
 
 use super::{PixelWindow, SampleSet};
 
@@ -99,6 +99,35 @@ pub fn layout_of(settings: &str) -> Option<FilmLayout> {
 }
 
 impl PartHeader {
+    /// The header of a render of `scene` (named `scene_name` in messages) with `settings`,
+    /// `layout` and `light_paths_per_pass` over `window`, by this prisma: no samples yet, no
+    /// time, one part.
+    pub fn new(
+        scene_name: &str,
+        scene: &Scene,
+        settings: &RenderSettings,
+        layout: &FilmLayout,
+        light_paths_per_pass: u64,
+        window: PixelWindow,
+    ) -> Self {
+        Self {
+            version: VERSION.to_owned(),
+            commit: COMMIT.to_owned(),
+            scene: scene_name.to_owned(),
+            scene_sha256: scene.digest.clone(),
+            seed: settings.seed,
+            samples: SampleSet::default(),
+            spp: settings.spp,
+            window,
+            display: (scene.camera.width(), scene.camera.height()),
+            settings: settings_json(settings, light_paths_per_pass, layout),
+            light_paths_per_pass,
+            wall_seconds: 0.0,
+            threads: 0,
+            parts: 1,
+        }
+    }
+
     /// The header as (attribute name, text) pairs, in a fixed order.
     pub fn attributes(&self) -> Vec<(&'static str, String)> {
         vec![
