@@ -253,7 +253,8 @@ pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
     }
     let start = Instant::now();
     let mut sums = WindowSums::new(window, layout, light_paths_per_pass > 0);
-    let mut done = SampleSet::default();
+    // Blocks go through the samples in order: the first `done` of them are done.
+    let mut done = 0u64;
     let mut interrupted = false;
     let mut rays = 0;
     let mut light_rays = 0;
@@ -301,7 +302,7 @@ pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
                         light_rays += light_block(&pool, &tracer, job, &mut sums, paths, width, &progress)?;
                         light_elapsed += light_start.elapsed();
                     }
-                    done = done.union(&SampleSet::range(first..end));
+                    done += u64::from(end - first);
                     blocks += 1;
                     // The next block: about TARGET_BLOCK_SECONDS, growing at most fourfold.
                     let seconds_per_sample = block_start.elapsed().as_secs_f64() / f64::from(end - first);
@@ -317,6 +318,7 @@ pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
     });
     result?;
     progress.finish_and_clear();
+    let done = samples.first(done);
     let stats = RenderStats {
         rays: rays + light_rays,
         samples: done.len() * window.pixels() as u64,

@@ -15,6 +15,10 @@
 //! when polarised, `polarisationHandedness` = "right" (S3 > 0: the field turns clockwise for
 //! the receiver). A monochromatic render is written as what it is: only the channels
 //! `S<k>.<λ>nm` of its one wavelength, and the wavelength in the attribute `wavelengthNm`.
+//!
+//! A crop's data window is its pixel window and its display window the whole image. A render's
+//! provenance goes in `prisma.*` text attributes ([`crate::part::header`]), and a part's exact
+//! sums in `sums.*` 32-bit unsigned channels ([`crate::part::file`]).
 
 use std::path::Path;
 
