@@ -1,5 +1,5 @@
 //! [`FixedSum`]: an exact sum of floating-point contributions, in 192-bit two's-complement fixed
-//! point with a quantum of 2⁻⁹⁶.
+//! point with a quantum of 2⁻⁶⁴.
 //!
 //! Why: a render split into parts (sample ranges, pixel windows, an interrupted run and its
 //! resumption) must merge into the very bits of the single render. Floating-point addition is
@@ -8,24 +8,25 @@
 //! quantum, and from then on every sum is exact, whatever the order and grouping. The image is
 //! the sum divided by the sample count, a function of the two alone.
 //!
-//! The format is fixed, not chosen per scene: the quantum 2⁻⁹⁶ ≈ 1.3·10⁻²⁹ keeps a relative
-//! precision far finer than f32's for any value above 10⁻²⁰, and the range, |sum| < 2⁹⁵ ≈
-//! 4·10²⁸, holds any pixel of a scene within `scene/limits.rs` short of absurd gains (the
-//! brightest accepted emission, 10¹⁵, times the 80 of the XYZ conversion, times 2²⁰ samples is
-//! 8·10²²). A contribution that is not finite or not below 2⁹⁴ in magnitude, and a sum that
-//! would leave the range, are refused ([`FixedSum::add`] says so), and the render fails as for a
-//! non-finite pixel. All contributions of S0 (XYZ and bands) are ≥ 0, so their partial sums grow
+//! The format is fixed, not chosen per scene: the range, |sum| < 2¹²⁷ ≈ 1.7·10³⁸, is f32's, so
+//! every contribution f32 can carry up to 2¹²⁶ ≈ 8.5·10³⁷ is accepted; the quantum 2⁻⁶⁴ ≈
+//! 5.4·10⁻²⁰ keeps a relative precision finer than f32's (6·10⁻⁸) for every contribution above
+//! 10⁻¹², and eight significant digits at 10⁻¹². (A quantum of 2⁻⁹⁶ was tried first: its sums
+//! needed a fourth 32-bit word per value in the part files, and writing and reading those cost
+//! more than the 10 % a split render may add; docs/farm.md.) A contribution that is not finite
+//! or not below 2¹²⁶ in magnitude, and a sum that would leave the range, are refused
+//! ([`FixedSum::add`] says so), and the render fails as for a non-finite pixel. All contributions of S0 (XYZ and bands) are ≥ 0, so their partial sums grow
 //! monotonically to the total: whether a sum overflows does not depend on the grouping either.
 //! Those of S1–S3 are bounded by S0's (|Sₖ| ≤ S0 per wavelength, and the colour-matching
 //! functions are ≥ 0), so they stay in range whenever S0 does.
 
 /// Fraction bits: the quantum is 2^-FRACTION_BITS.
-pub const FRACTION_BITS: i32 = 96;
+pub const FRACTION_BITS: i32 = 64;
 /// Largest magnitude (exclusive) of one contribution, as a power of two.
-const MAX_CONTRIBUTION_LOG2: i32 = 94;
+const MAX_CONTRIBUTION_LOG2: i32 = 126;
 
 /// An exact sum: 192-bit two's complement, `lo` the low 128 bits, `hi` the high 64 (signed),
-/// in units of 2⁻⁹⁶.
+/// in units of 2⁻⁶⁴.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct FixedSum {
     lo: u128,
@@ -37,7 +38,7 @@ impl FixedSum {
     pub const ZERO: Self = Self { lo: 0, hi: 0 };
 
     /// `value` rounded to the nearest multiple of the quantum (halves away from zero), or
-    /// `None` when it is not finite or its magnitude is 2⁹⁴ or more.
+    /// `None` when it is not finite or its magnitude is 2¹²⁶ or more.
     #[inline]
     pub fn from_f64(value: f64) -> Option<Self> {
         if value == 0.0 {
@@ -55,7 +56,7 @@ impl FixedSum {
             if exponent_bits == 0 { (fraction, -1074) } else { (fraction | (1 << 52), exponent_bits - 1075) };
         let shift = exponent + FRACTION_BITS;
         let magnitude: u128 = if shift >= 0 {
-            // mantissa < 2^53 and the value < 2^94, so mantissa << shift < 2^190 fits... in 192
+            // mantissa < 2^53 and the value < 2^126, so mantissa << shift < 2^190 fits in 192
             // bits, but not in 128 when shift > 75: those go through the wide path below.
             if shift > 75 {
                 return Some(Self::wide(mantissa, shift as u32, negative));
@@ -73,7 +74,7 @@ impl FixedSum {
         Some(if negative { sum.negated() } else { sum })
     }
 
-    /// `mantissa << shift` (shift in 76..=140) as a sum, negated when `negative`.
+    /// `mantissa << shift` (shift in 76..=137) as a sum, negated when `negative`.
     fn wide(mantissa: u64, shift: u32, negative: bool) -> Self {
         let shifted = u128::from(mantissa) << (shift - 64);
         // shifted holds bits 64.. of the value: its low 64 bits are the value's bits 64..128.
@@ -176,13 +177,13 @@ mod tests {
     /// Dyadic values are exact, and come back as they went in.
     #[test]
     fn dyadic_values_round_trip() {
-        for x in [0.0, 1.0, -1.0, 0.5, 3.25, -1e-3, 12345.678, 2e20, -7e27, 1e-25] {
+        for x in [0.0, 1.0, -1.0, 0.5, 3.25, -1e-3, 12345.678, 2e20, -7e27, 3e37, 1e-25] {
             let back = value(x).to_f64();
             let tolerance = 2f64.powi(-FRACTION_BITS) + x.abs() * 1e-15;
             assert!((back - x).abs() <= tolerance, "{x} came back as {back}");
         }
         assert_eq!(value(0.75).to_f64(), 0.75);
-        assert_eq!(value(-3.0e20).to_f64(), -3.0e20, "a value using the high word");
+        assert_eq!(value(-3.0e30).to_f64(), -3.0e30, "a value using the high word");
     }
 
     /// The point of the type: any grouping and order of the same contributions gives the same
@@ -222,7 +223,7 @@ mod tests {
 
     #[test]
     fn words_round_trip() {
-        for x in [0.0, 1.5, -1.5, 1e25, -1e25, 3e-20] {
+        for x in [0.0, 1.5, -1.5, 1e25, -1e35, 3e-15] {
             let fixed = value(x);
             assert_eq!(FixedSum::from_words(fixed.to_words()), fixed, "{x}");
         }
@@ -233,15 +234,15 @@ mod tests {
     fn overflow_is_refused() {
         assert!(FixedSum::from_f64(f64::NAN).is_none());
         assert!(FixedSum::from_f64(f64::INFINITY).is_none());
-        assert!(FixedSum::from_f64(2f64.powi(94)).is_none());
-        let big = value(2f64.powi(94) * 0.75);
+        assert!(FixedSum::from_f64(2f64.powi(126)).is_none());
+        let big = value(2f64.powi(126) * 0.75);
         let mut sum = big;
-        assert!(sum.add(big), "1.5 · 2^94 is within the range, |sum| < 2^95");
+        assert!(sum.add(big), "1.5 · 2^126 is within the range, |sum| < 2^127");
         let before = sum;
-        assert!(!sum.add(big), "2.25 · 2^94 is past it");
+        assert!(!sum.add(big), "2.25 · 2^126 is past it");
         assert_eq!(sum, before, "unchanged");
         // Values below the quantum's half round to zero; the smallest kept one is exact.
-        assert!(value(2f64.powi(-98)).is_zero());
-        assert_eq!(value(2f64.powi(-96)).to_f64(), 2f64.powi(-96));
+        assert!(value(2f64.powi(-66)).is_zero());
+        assert_eq!(value(2f64.powi(-64)).to_f64(), 2f64.powi(-64));
     }
 }

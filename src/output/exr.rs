@@ -22,6 +22,8 @@
 
 use std::path::Path;
 
+use ::exr::compression::Compression;
+use ::exr::image::Blocks;
 use ::exr::meta::attribute::{AttributeValue, Chromaticities, IntegerBounds, LineOrder, Text};
 use ::exr::prelude::{
     read_all_flat_layers_from_file, AnyChannel, AnyChannels, Encoding, FlatSamples, Image, ImageAttributes,
@@ -32,7 +34,7 @@ use glam::Vec3;
 use super::file::{write_file, Sink};
 use super::OutputError;
 use crate::film::{Film, WindowSums};
-use crate::part::file::{sum_channel_name, sums_digest};
+use crate::part::file::{implied_word, sum_channel_name, sums_digest};
 use crate::part::header::SUMS_FORMAT;
 use crate::part::PartHeader;
 
@@ -124,12 +126,18 @@ pub fn encode_exr_part(
             }
             let stride = sums.stride();
             for value in 0..stride {
+                let words: Vec<[u32; 6]> =
+                    values.chunks_exact(stride).map(|pixel| pixel[value].to_words()).collect();
                 for word in 0..6 {
-                    let words =
-                        values.chunks_exact(stride).map(|pixel| pixel[value].to_words()[word]).collect();
+                    // A word that is in every pixel what the reader would take in its place is
+                    // left out (`implied_word`): the high words of most sums, the low word of
+                    // many; the digest covers every word.
+                    if words.iter().all(|w| w[word] == implied_word(w, word)) {
+                        continue;
+                    }
                     channels.push(AnyChannel::new(
                         sum_channel_name(light, value, word).as_str(),
-                        FlatSamples::U32(words),
+                        FlatSamples::U32(words.iter().map(|w| w[word]).collect()),
                     ));
                 }
             }
@@ -144,7 +152,16 @@ pub fn encode_exr_part(
         LayerAttributes { layer_position: Vec2(x0 as i32, y0 as i32), ..LayerAttributes::default() },
         // Blocks in increasing order: with the default unspecified order the crate writes the
         // blocks it compresses in parallel as they finish, so two writes of one image differed.
-        Encoding { line_order: LineOrder::Increasing, ..Encoding::FAST_LOSSLESS },
+        // A part is written uncompressed: its sums (up to six 32-bit words per value) took
+        // longer to compress and decompress than the render saved by splitting (docs/farm.md).
+        match sums {
+            None => Encoding { line_order: LineOrder::Increasing, ..Encoding::FAST_LOSSLESS },
+            Some(_) => Encoding {
+                compression: Compression::Uncompressed,
+                blocks: Blocks::ScanLines,
+                line_order: LineOrder::Increasing,
+            },
+        },
         AnyChannels::sort(channels),
     );
     let (display_width, display_height) = film.display();

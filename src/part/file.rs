@@ -1,10 +1,13 @@
 //! Part files: a render's EXR (the image of its window, [`crate::output::exr`]) with its
-//! per-pixel sums added as 32-bit unsigned channels, six per value (the words of a
+//! per-pixel sums added as 32-bit unsigned channels, up to six per value (the words of a
 //! [`FixedSum`], least significant first): `sums.c0000.w0` … `sums.c0000.w5` for the camera
 //! samples' value 0 (XYZ of S0, then of S1–S3, then the bands, as
 //! [`crate::film::FilmLayout::values_per_pixel`] orders them), and `sums.l…` for the light
-//! tracer's. The header ([`PartHeader`]) says which samples and window they hold, and
-//! `prisma.sumsSha256` guards them: a part whose sums do not match it is refused as corrupt.
+//! tracer's. A word channel is left out when every pixel's word is implied ([`implied_word`]):
+//! zero for word 0, the sign extension of the word below for the others. Part files are written
+//! uncompressed: compressing the sums cost more time than splitting a render may add. The
+//! header ([`PartHeader`]) says which samples and window they hold, and `prisma.sumsSha256`
+//! guards them: a part whose sums do not match it is refused as corrupt.
 
 use std::path::Path;
 
@@ -40,6 +43,22 @@ pub struct PartError {
 /// The name of word `word` of sum value `value`, camera (`light` false) or light tracer.
 pub fn sum_channel_name(light: bool, value: usize, word: usize) -> String {
     format!("sums.{}{value:04}.w{word}", if light { 'l' } else { 'c' })
+}
+
+/// The value word `word` of a sum whose words are `words` takes when its channel is left out:
+/// 0 for the lowest, else all ones or all zeros as the top bit of the word below.
+#[inline]
+pub fn implied_word(words: &[u32; 6], word: usize) -> u32 {
+    match word {
+        0 => 0,
+        w => {
+            if words[w - 1] >> 31 == 1 {
+                u32::MAX
+            } else {
+                0
+            }
+        }
+    }
 }
 
 /// SHA-256 (hex) of the sums' words, camera then light, little-endian.
@@ -185,14 +204,26 @@ pub fn read_part(path: &Path) -> Result<Part, PartError> {
             None => Err(format!("channel {name} is missing")),
         }
     };
+    // A word channel left out holds the implied word in every pixel (the digest below checks
+    // that it was meant to be left out).
     let read_sums = |light: bool| -> Result<Vec<FixedSum>, String> {
         let mut sums = vec![FixedSum::ZERO; pixels * values];
         for value in 0..values {
-            let words: Vec<&[u32]> = (0..6)
-                .map(|word| channel(&sum_channel_name(light, value, word)))
+            let words: Vec<Option<&[u32]>> = (0..6)
+                .map(|word| match channel(&sum_channel_name(light, value, word)) {
+                    Err(missing) if missing.ends_with("is missing") => Ok(None),
+                    found => found.map(Some),
+                })
                 .collect::<Result<_, _>>()?;
             for pixel in 0..pixels {
-                sums[pixel * values + value] = FixedSum::from_words(std::array::from_fn(|w| words[w][pixel]));
+                let mut pixel_words = [0u32; 6];
+                for (w, channel) in words.iter().enumerate() {
+                    pixel_words[w] = match channel {
+                        Some(channel) => channel[pixel],
+                        None => implied_word(&pixel_words, w),
+                    };
+                }
+                sums[pixel * values + value] = FixedSum::from_words(pixel_words);
             }
         }
         Ok(sums)

@@ -18,9 +18,10 @@ use crate::scene::{RenderSettings, Scene};
 
 use super::{PixelWindow, SampleSet};
 
-/// The format of the sums a part holds: 192-bit fixed point with 2⁻⁹⁶ quanta, as six 32-bit
-/// words per value ([`crate::fixed::FixedSum`]). A different format is a different renderer.
-pub const SUMS_FORMAT: &str = "fixed192-q96";
+/// The format of the sums a part holds: 192-bit fixed point with 2⁻⁶⁴ quanta, as up to six
+/// 32-bit words per value ([`crate::fixed::FixedSum`], [`crate::part::file`]). A different
+/// format is a different renderer.
+pub const SUMS_FORMAT: &str = "fixed192-q64";
 
 /// The renderer's version (Cargo).
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");
