@@ -170,7 +170,7 @@ fn an_interrupted_render_resumes_into_the_uninterrupted_image() {
 }
 
 fn refusal(parts: &[(PathBuf, Part)], complete: bool) -> String {
-    merge(parts, complete).err().expect("refused").to_string()
+    merge(parts, complete).expect_err("refused").to_string()
 }
 
 /// Each reason to refuse a merge, with a message naming it.
@@ -201,11 +201,11 @@ fn merges_of_parts_that_do_not_belong_together_are_refused() {
     let top_part = part(&scene, &job, "0..4", top, 1);
     assert!(refusal(&[top_part.clone(), a.clone()], false).contains("overlapping parts"));
     // A missing range, with --complete only.
-    let message = refusal(&[a.clone()], true);
+    let message = refusal(std::slice::from_ref(&a), true);
     assert!(message.contains("samples 2..4 of 0..4 are missing"), "{message}");
-    assert!(merge(&[a.clone()], false).is_ok());
+    assert!(merge(std::slice::from_ref(&a), false).is_ok());
     // A window left out, and windows with different samples.
-    let message = refusal(&[top_part.clone()], true);
+    let message = refusal(std::slice::from_ref(&top_part), true);
     assert!(message.contains("not the whole 16×8 image"), "{message}");
     let bottom_half = part(&scene, &job, "0..2", bottom, 1);
     let message = refusal(&[top_part.clone(), bottom_half], false);
