@@ -2,12 +2,16 @@
 //! the mean spectral radiance at one wavelength), and, as the [`FilmLayout`] asks, the XYZ of
 //! the Stokes components S1–S3 and the mean spectral radiance in wavelength bands.
 //!
-//! [`PixelSums`] accumulates one pixel's camera samples in f64 in a fixed order; the division by
-//! the wavelength pdf happens here and in [`crate::spectrum::cie::to_xyz`], nowhere else.
+//! [`add_sample`] adds one camera sample to a pixel's exact sums ([`WindowSums`], of
+//! [`FixedSum`]s); the division by the wavelength pdf happens there and in
+//! [`crate::spectrum::cie::to_xyz`], nowhere else. [`WindowSums::film`] divides the sums by the
+//! sample count.
 
 use glam::Vec3;
 
+use crate::fixed::FixedSum;
 use crate::integrator::Beam;
+use crate::part::PixelWindow;
 use crate::spectrum::color::xyz_to_linear_srgb;
 use crate::spectrum::{cie, SampledWavelengths};
 
@@ -67,62 +71,59 @@ impl FilmLayout {
     pub fn band_values(&self) -> usize {
         self.bands.map_or(0, |bands| bands.count * self.components())
     }
+    /// Values summed per pixel: XYZ of each Stokes component, then the band values.
+    pub fn values_per_pixel(&self) -> usize {
+        3 * self.components() + self.band_values()
+    }
 }
 
-/// The running sums of one pixel's samples.
-#[derive(Debug, Clone)]
-pub struct PixelSums {
-    /// Σ XYZ per Stokes component.
-    xyz: [[f64; 3]; 4],
-    /// Σ band estimates, component-major (all of S0's bands, then S1's...).
-    bands: Vec<f64>,
-}
-
-impl PixelSums {
-    /// Empty sums for a pixel of `layout`.
-    pub fn new(layout: &FilmLayout) -> Self {
-        Self { xyz: [[0.0; 3]; 4], bands: vec![0.0; layout.band_values()] }
+/// Adds one camera sample's light `beam` at `wavelengths` to one pixel's sums `sums` (the
+/// [`FilmLayout::values_per_pixel`] values of [`WindowSums`]): XYZ per Stokes component, then
+/// the band estimates. False when a value cannot be summed (not finite, or past the range of
+/// [`FixedSum`]): the render then fails, as for a non-finite pixel.
+#[inline]
+#[must_use]
+pub fn add_sample<B: Beam>(
+    sums: &mut [FixedSum],
+    beam: &B,
+    wavelengths: &SampledWavelengths,
+    layout: &FilmLayout,
+) -> bool {
+    let mut ok = true;
+    for (k, component) in beam.components().iter().enumerate() {
+        // Most samples see unpolarised light (diffuse surfaces, the background): S1–S3 are
+        // then exactly zero and add nothing.
+        if k > 0 && component.is_zero() {
+            continue;
+        }
+        let xyz = cie::to_xyz(component, wavelengths);
+        for (sum, value) in sums[3 * k..3 * k + 3].iter_mut().zip(xyz.to_array()) {
+            ok &= sum.add_f64(f64::from(value));
+        }
     }
-
-    /// Back to zero, keeping the allocation.
-    pub fn clear(&mut self) {
-        self.xyz = [[0.0; 3]; 4];
-        self.bands.fill(0.0);
-    }
-
-    /// Adds one camera sample's light `beam` at `wavelengths`.
-    #[inline]
-    pub fn add<B: Beam>(&mut self, beam: &B, wavelengths: &SampledWavelengths, layout: &FilmLayout) {
+    let Some(bands) = &layout.bands else { return ok };
+    // Band mean of L: (1/Δλ)·∫_band L dλ, estimated like `to_xyz` with an indicator for the
+    // colour-matching function: Σ_active L(λ_i)/p(λ_i) / active over the lanes in the band.
+    let offset = 3 * layout.components();
+    let active = wavelengths.active();
+    let scale = 1.0 / (active as f64 * f64::from(bands.width_nm()));
+    for lane in 0..active {
+        let lambda_nm = wavelengths.lambda_nm(lane);
+        let Some(band) = bands.band_of(lambda_nm) else { continue };
+        let inverse_pdf = if wavelengths.is_monochromatic() {
+            // One fixed wavelength: the band holding it gets the radiance itself.
+            f64::from(bands.width_nm())
+        } else {
+            1.0 / f64::from(wavelengths.pdf_per_nm(lane))
+        };
         for (k, component) in beam.components().iter().enumerate() {
-            // Most samples see unpolarised light (diffuse surfaces, the background): S1–S3 are
-            // then exactly zero and add nothing.
-            if k > 0 && component.is_zero() {
-                continue;
-            }
-            let xyz = cie::to_xyz(component, wavelengths);
-            for (sum, value) in self.xyz[k].iter_mut().zip(xyz.to_array()) {
-                *sum += f64::from(value);
-            }
-        }
-        let Some(bands) = &layout.bands else { return };
-        // Band mean of L: (1/Δλ)·∫_band L dλ, estimated like `to_xyz` with an indicator for the
-        // colour-matching function: Σ_active L(λ_i)/p(λ_i) / active over the lanes in the band.
-        let active = wavelengths.active();
-        let scale = 1.0 / (active as f64 * f64::from(bands.width_nm()));
-        for lane in 0..active {
-            let lambda_nm = wavelengths.lambda_nm(lane);
-            let Some(band) = bands.band_of(lambda_nm) else { continue };
-            let inverse_pdf = if wavelengths.is_monochromatic() {
-                // One fixed wavelength: the band holding it gets the radiance itself.
-                f64::from(bands.width_nm())
-            } else {
-                1.0 / f64::from(wavelengths.pdf_per_nm(lane))
-            };
-            for (k, component) in beam.components().iter().enumerate() {
-                self.bands[k * bands.count + band] += f64::from(component[lane]) * inverse_pdf * scale;
+            let value = f64::from(component[lane]) * inverse_pdf * scale;
+            if value != 0.0 {
+                ok &= sums[offset + k * bands.count + band].add_f64(value);
             }
         }
     }
+    ok
 }
 
 /// A pixel whose value is not a finite number: radiance overflowed f32 somewhere in its samples.
@@ -141,7 +142,7 @@ pub struct NonFinitePixel {
 }
 
 /// The light tracer's contributions of one block of light paths, in the order they were made:
-/// per splat, the pixel and the same values a camera sample adds to [`PixelSums`] (XYZ per
+/// per splat, the pixel and the same values a camera sample adds with [`add_sample`] (XYZ per
 /// Stokes component, then band estimates), each an estimate for one light path (not yet divided
 /// by the number of paths).
 #[derive(Debug, Clone, Default)]
@@ -151,11 +152,6 @@ pub struct Splats {
 }
 
 impl Splats {
-    /// Values per splat for `layout`.
-    fn stride(layout: &FilmLayout) -> usize {
-        3 * layout.components() + layout.band_values()
-    }
-
     /// Number of splats held.
     pub fn len(&self) -> usize {
         self.pixels.len()
@@ -197,52 +193,175 @@ impl Splats {
     }
 }
 
-/// Every pixel's sum of light-tracer splats, in f64, added block by block in block order so
-/// that the sums do not depend on which thread traced which block.
-#[derive(Debug, Clone)]
-pub struct SplatSums {
-    stride: usize,
-    sums: Vec<f64>,
+/// The exact per-pixel sums of a render or a part over one [`PixelWindow`]: for every pixel,
+/// the [`FilmLayout::values_per_pixel`] sums of its camera samples (row-major), and, with
+/// caustics, as many sums of the light tracer's splats. These, with the sample count, are
+/// what a part file keeps and what merging adds: sums of [`FixedSum`]s do not depend on the
+/// order or grouping of their terms, so any split of a render adds up to the same bits.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WindowSums {
+    window: PixelWindow,
+    layout: FilmLayout,
+    camera: Vec<FixedSum>,
+    light: Vec<FixedSum>,
 }
 
-impl SplatSums {
-    /// Zero sums for `pixels` pixels of `layout`.
-    pub fn new(pixels: usize, layout: &FilmLayout) -> Self {
-        let stride = Splats::stride(layout);
-        Self { stride, sums: vec![0.0; pixels * stride] }
-    }
+/// A sum that left the range of [`FixedSum`] while merging parts.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("the sums of pixel ({x}, {y}) overflow: the radiance there is too large to sum exactly")]
+pub struct SumOverflow {
+    /// Column.
+    pub x: u32,
+    /// Row.
+    pub y: u32,
+}
 
-    /// Adds one block's splats, in their order.
-    pub fn add(&mut self, splats: &Splats) {
-        for (pixel, values) in splats.pixels.iter().zip(splats.values.chunks_exact(self.stride)) {
-            let start = *pixel as usize * self.stride;
-            for (sum, value) in self.sums[start..start + self.stride].iter_mut().zip(values) {
-                *sum += f64::from(*value);
-            }
+impl WindowSums {
+    /// Zero sums over `window` for `layout`, with light-tracer sums when `light`.
+    pub fn new(window: PixelWindow, layout: FilmLayout, light: bool) -> Self {
+        let values = window.pixels() * layout.values_per_pixel();
+        Self {
+            window,
+            layout,
+            camera: vec![FixedSum::ZERO; values],
+            light: if light { vec![FixedSum::ZERO; values] } else { Vec::new() },
         }
     }
 
-    /// Adds the means over `paths` light paths to `pixels` (the camera side's means, row-major).
-    /// Pixels and values no splat reached are left untouched, bit for bit.
-    pub fn add_to(&self, pixels: &mut [PixelMeans], paths: u64, layout: &FilmLayout) {
-        let n = paths as f64;
-        let components = layout.components();
-        for (means, sums) in pixels.iter_mut().zip(self.sums.chunks_exact(self.stride)) {
-            for k in 0..components {
-                let xyz = if k == 0 { &mut means.xyz } else { &mut means.stokes_xyz[k - 1] };
-                for c in 0..3 {
-                    let sum = sums[3 * k + c];
-                    if sum != 0.0 {
-                        xyz[c] += (sum / n) as f32;
+    /// Sums read back from a part file: `camera` and `light` (empty without caustics) must
+    /// hold [`FilmLayout::values_per_pixel`] values per pixel of `window`; `None` otherwise.
+    pub fn from_values(
+        window: PixelWindow,
+        layout: FilmLayout,
+        camera: Vec<FixedSum>,
+        light: Vec<FixedSum>,
+    ) -> Option<Self> {
+        let values = window.pixels() * layout.values_per_pixel();
+        (camera.len() == values && (light.is_empty() || light.len() == values)).then_some(Self {
+            window,
+            layout,
+            camera,
+            light,
+        })
+    }
+
+    /// The window.
+    pub fn window(&self) -> PixelWindow {
+        self.window
+    }
+    /// What each pixel holds.
+    pub fn layout(&self) -> &FilmLayout {
+        &self.layout
+    }
+    /// Values per pixel.
+    pub fn stride(&self) -> usize {
+        self.layout.values_per_pixel()
+    }
+    /// The camera samples' sums, row-major, [`Self::stride`] per pixel.
+    pub fn camera(&self) -> &[FixedSum] {
+        &self.camera
+    }
+    /// The camera samples' sums, to add to.
+    pub fn camera_mut(&mut self) -> &mut [FixedSum] {
+        &mut self.camera
+    }
+    /// The light tracer's sums (empty without caustics).
+    pub fn light(&self) -> &[FixedSum] {
+        &self.light
+    }
+    /// True when the sums hold light-tracer splats.
+    pub fn has_light(&self) -> bool {
+        !self.light.is_empty()
+    }
+
+    /// Adds one block's splats (pixels numbered row-major over the whole `display_width`-wide
+    /// image); splats outside the window are dropped. Returns the first pixel whose sums could
+    /// not take a value, if any.
+    pub fn add_splats(&mut self, splats: &Splats, display_width: u32) -> Option<(u32, u32)> {
+        let stride = self.stride();
+        let mut failed = None;
+        for (pixel, values) in splats.pixels.iter().zip(splats.values.chunks_exact(stride)) {
+            let (x, y) = (pixel % display_width, pixel / display_width);
+            if !self.window.contains(x, y) {
+                continue;
+            }
+            let index =
+                (y - self.window.y0) as usize * self.window.width() as usize + (x - self.window.x0) as usize;
+            let start = index * stride;
+            for (sum, value) in self.light[start..start + stride].iter_mut().zip(values) {
+                if *value != 0.0 && !sum.add_f64(f64::from(*value)) {
+                    failed.get_or_insert((x, y));
+                }
+            }
+        }
+        failed
+    }
+
+    /// Adds `other`, whose window must lie inside this one and whose layout and light sums
+    /// must match (checked by the caller: parts of one render). Errors name the first pixel
+    /// whose sum overflows.
+    pub fn add(&mut self, other: &WindowSums) -> Result<(), SumOverflow> {
+        assert!(self.window.contains_window(&other.window), "a part outside the merged window");
+        assert_eq!(self.stride(), other.stride(), "parts of different layouts");
+        let stride = self.stride();
+        let width = other.window.width() as usize;
+        for (row, y) in (other.window.y0..other.window.y1).enumerate() {
+            let from = row * width * stride;
+            let to = ((y - self.window.y0) as usize * self.window.width() as usize
+                + (other.window.x0 - self.window.x0) as usize)
+                * stride;
+            let pairs = [(&mut self.camera, &other.camera), (&mut self.light, &other.light)];
+            for (mine, theirs) in pairs {
+                if theirs.is_empty() {
+                    continue;
+                }
+                for (i, (sum, value)) in mine[to..to + width * stride]
+                    .iter_mut()
+                    .zip(&theirs[from..from + width * stride])
+                    .enumerate()
+                {
+                    if !sum.add(*value) {
+                        return Err(SumOverflow { x: other.window.x0 + (i / stride) as u32, y });
                     }
                 }
             }
-            for (band, sum) in means.bands.iter_mut().zip(&sums[3 * components..]) {
-                if *sum != 0.0 {
-                    *band += (sum / n) as f32;
-                }
-            }
         }
+        Ok(())
+    }
+
+    /// The image these sums make with `samples` samples per pixel and `light_paths_per_pass`
+    /// light paths per sample (pass), placed in a `display` = (width, height) image: per value,
+    /// the camera sum over `samples`, plus, where any splat landed, the light sum over all the
+    /// light paths. A function of the sums and counts alone, so the same sums give the same bits.
+    pub fn film(&self, samples: u64, light_paths_per_pass: u64, display: (u32, u32)) -> Film {
+        let stride = self.stride();
+        let components = self.layout.components();
+        let n = samples as f64;
+        let paths = samples as f64 * light_paths_per_pass as f64;
+        let pixels = (0..self.window.pixels())
+            .map(|index| {
+                let camera = &self.camera[index * stride..(index + 1) * stride];
+                let light = self.light.get(index * stride..(index + 1) * stride);
+                let value = |i: usize| {
+                    let mut mean = camera[i].mean(n) as f32;
+                    if let Some(light) = light {
+                        if !light[i].is_zero() {
+                            mean += light[i].mean(paths) as f32;
+                        }
+                    }
+                    mean
+                };
+                let xyz = |k: usize| Vec3::new(value(3 * k), value(3 * k + 1), value(3 * k + 2));
+                let stokes = |k: usize| if k < components { xyz(k) } else { Vec3::ZERO };
+                PixelMeans {
+                    xyz: xyz(0),
+                    stokes_xyz: [stokes(1), stokes(2), stokes(3)],
+                    bands: (3 * components..stride).map(value).collect(),
+                }
+            })
+            .collect();
+        Film::assemble(self.window.width(), self.window.height(), self.layout, pixels)
+            .placed(self.window, display)
     }
 }
 
@@ -251,6 +370,10 @@ impl SplatSums {
 pub struct Film {
     width: u32,
     height: u32,
+    /// Where the film's top-left pixel lies in the whole image (a crop's offset).
+    origin: (u32, u32),
+    /// Size of the whole image the film is a window of.
+    display: (u32, u32),
     layout: FilmLayout,
     xyz: Vec<Vec3>,
     stokes_xyz: Vec<[Vec3; 3]>,
@@ -268,20 +391,6 @@ pub struct PixelMeans {
     pub bands: Vec<f32>,
 }
 
-impl PixelSums {
-    /// The means over `samples` samples.
-    pub fn means(&self, samples: u32) -> PixelMeans {
-        let n = f64::from(samples);
-        let mean =
-            |sums: &[f64; 3]| Vec3::new((sums[0] / n) as f32, (sums[1] / n) as f32, (sums[2] / n) as f32);
-        PixelMeans {
-            xyz: mean(&self.xyz[0]),
-            stokes_xyz: [mean(&self.xyz[1]), mean(&self.xyz[2]), mean(&self.xyz[3])],
-            bands: self.bands.iter().map(|&sum| (sum / n) as f32).collect(),
-        }
-    }
-}
-
 impl Film {
     /// A film from per-pixel S0 XYZ values (or radiance in all three channels when
     /// `monochromatic_nm` is set), unpolarised, without bands. Panics if `xyz.len() !=
@@ -289,7 +398,16 @@ impl Film {
     pub fn new(width: u32, height: u32, xyz: Vec<Vec3>, monochromatic_nm: Option<f32>) -> Self {
         assert_eq!(xyz.len(), width as usize * height as usize, "film size mismatch");
         let layout = FilmLayout { monochromatic_nm, ..FilmLayout::default() };
-        Self { width, height, layout, xyz, stokes_xyz: Vec::new(), bands: Vec::new() }
+        Self {
+            width,
+            height,
+            origin: (0, 0),
+            display: (width, height),
+            layout,
+            xyz,
+            stokes_xyz: Vec::new(),
+            bands: Vec::new(),
+        }
     }
 
     /// A film of `layout` from its pixels' means in row-major order. Panics if there are not
@@ -300,7 +418,23 @@ impl Film {
         let stokes_xyz =
             if layout.stokes { pixels.iter().map(|p| p.stokes_xyz).collect() } else { Vec::new() };
         let bands = pixels.into_iter().flat_map(|p| p.bands).collect();
-        Self { width, height, layout, xyz, stokes_xyz, bands }
+        Self { width, height, origin: (0, 0), display: (width, height), layout, xyz, stokes_xyz, bands }
+    }
+
+    /// The same film as the `window` of a `display` = (width, height) image (a crop). Panics
+    /// if the window's size is not the film's.
+    pub fn placed(self, window: PixelWindow, display: (u32, u32)) -> Self {
+        assert_eq!((window.width(), window.height()), (self.width, self.height), "window size mismatch");
+        Self { origin: (window.x0, window.y0), display, ..self }
+    }
+
+    /// Where the film's top-left pixel lies in the whole image.
+    pub fn origin(&self) -> (u32, u32) {
+        self.origin
+    }
+    /// Size (width, height) of the whole image the film is a window of.
+    pub fn display(&self) -> (u32, u32) {
+        self.display
     }
 
     /// The first pixel (row-major) that is not finite in any value it holds (XYZ of S0–S3, band
@@ -321,8 +455,8 @@ impl Film {
         match (0..self.xyz.len()).find(|&index| !finite(index)) {
             None => Ok(()),
             Some(index) => Err(NonFinitePixel {
-                x: (index % self.width as usize) as u32,
-                y: (index / self.width as usize) as u32,
+                x: self.origin.0 + (index % self.width as usize) as u32,
+                y: self.origin.1 + (index / self.width as usize) as u32,
                 xyz: self.xyz[index],
             }),
         }
@@ -411,18 +545,21 @@ mod tests {
             bands: Some(SpectralBands { count: 5, min_nm: 380.0, max_nm: 780.0 }),
             monochromatic_nm: None,
         };
-        let mut sums = PixelSums::new(&layout);
+        let window = PixelWindow::full(1, 1);
+        let mut sums = WindowSums::new(window, layout, false);
         let samples = 4096;
         for i in 0..samples {
             let wavelengths = SampledWavelengths::sample_visible((i as f32 + 0.5) / samples as f32, N_LAMBDA);
             let light = Stokes::unpolarized(SampledSpectrum::splat(1.0));
-            sums.add(&light, &wavelengths, &layout);
+            assert!(add_sample(sums.camera_mut(), &light, &wavelengths, &layout));
         }
-        let means = sums.means(samples);
+        let film = sums.film(samples, 0, (1, 1));
         for band in 0..5 {
-            assert!((means.bands[band] - 1.0).abs() < 0.01, "band {band}: {}", means.bands[band]);
-            assert_eq!(means.bands[5 + band], 0.0, "S1 of unpolarised light");
+            let (s0, s1) = (film.band(0, band).unwrap()[0], film.band(1, band).unwrap()[0]);
+            assert!((s0 - 1.0).abs() < 0.01, "band {band}: {s0}");
+            assert_eq!(s1, 0.0, "S1 of unpolarised light");
         }
+        let means = PixelMeans { xyz: film.xyz()[0], ..PixelMeans::default() };
         assert!((means.xyz.y - 1.0).abs() < 1e-3, "{}", means.xyz);
     }
 

@@ -5,14 +5,17 @@
 
 pub mod camera;
 pub mod film;
+pub mod fixed;
 mod float_index;
 pub mod geometry;
 pub mod integrator;
+pub mod interrupt;
 pub mod light;
 pub mod material;
 pub mod memory;
 pub mod optics;
 pub mod output;
+pub mod part;
 pub mod polarization;
 pub mod render;
 pub mod sampler;

@@ -1,7 +1,8 @@
 //! The `prisma` command line. Without a subcommand it renders the bundled dispersive showcase.
 //!
 //! Exit codes: 0 success, 1 a failure while running (I/O, ...), 2 bad input (arguments or scene),
-//! 130 interrupted (Ctrl-C, SIGTERM or SIGHUP: temporary output files are removed first).
+//! 130 interrupted (Ctrl-C, SIGTERM or SIGHUP: temporary output files are removed first; an
+//! interrupted render first writes what it has as a part).
 
 mod cli;
 
@@ -11,12 +12,11 @@ use clap::Parser as _;
 
 fn main() -> ExitCode {
     // An interrupted command leaves no partial output: the handler removes the temporary files
-    // being written (the finished outputs are renamed into place atomically) and exits.
-    // If the handler cannot be installed, the default action (terminate) still applies.
-    let _ = ctrlc::set_handler(|| {
-        prisma::output::file::remove_temporaries();
-        std::process::exit(130);
-    });
+    // being written (the finished outputs are renamed into place atomically) and exits; a render
+    // is first asked to stop at its next sample block and write what it has as a part
+    // (`prisma::interrupt`). If the handler cannot be installed, the default action (terminate)
+    // still applies.
+    let _ = ctrlc::set_handler(prisma::interrupt::on_signal);
     let args = match cli::Cli::try_parse() {
         Ok(args) => args,
         // --help and --version: clap prints them to standard output.

@@ -1,33 +1,43 @@
-//! [`render`]: the image of a scene, tiles in parallel on a rayon pool.
+//! [`render`]: the image of a scene, rows in parallel on a rayon pool, sample block by sample
+//! block.
 //!
 //! Every camera sample draws its sample values from a sequence keyed by (seed, pixel, sample),
-//! and each pixel's samples are summed in a fixed order, so the image is bit-identical whatever
-//! the thread count and tile schedule.
+//! and is added to its pixel's exact sums ([`crate::fixed::FixedSum`]), so the image is
+//! bit-identical whatever the thread count, the row schedule and the size of the sample blocks,
+//! and any split of the samples and pixels into parts adds up to the same bits
+//! ([`crate::part`]).
 //!
-//! With caustics on, the light tracer then traces `spp` passes of light paths (one per pixel per
-//! pass unless the settings say otherwise) in fixed blocks of [`LIGHT_PATH_BLOCK`] paths: light
-//! path n of the render draws point n of one sample sequence keyed by the seed
-//! ([`LightPathSequence`]), and each block records its splats in order; the blocks' splats are summed into one film in block order, whichever thread traced
-//! them, and the sums divided by the number of light paths are added to the Whitted image.
+//! A render takes the sample indices of its [`Job`] (all of `0..spp` unless told) over its pixel
+//! window (the whole image unless told) in **sample blocks**: each block adds some samples to
+//! every pixel of the window. Between blocks the render may stop (Ctrl-C, [`crate::interrupt`]):
+//! what it has then is exact, the sums of the samples done. Blocks grow to about
+//! [`TARGET_BLOCK_SECONDS`], so a stop comes soon and the progress estimate is current.
+//!
+//! With caustics on, sample `i` is also pass `i` of the light tracer: light paths `i·L` to
+//! `(i+1)·L − 1` for `L` light paths per pass. Light paths come in fixed blocks of
+//! [`LIGHT_PATH_BLOCK`] by their number; light path n of the render draws point n of one sample
+//! sequence keyed by the seed ([`LightPathSequence`]), whichever block or part traces it, and a
+//! pass that starts or ends inside a block traces only its own paths of it.
+//! Their splats are summed exactly like camera samples; splats outside the window are dropped.
+//! The light sums divided by the number of light paths are added to the camera means.
 
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 
-use crate::film::{
-    Film, FilmLayout, NonFinitePixel, PixelMeans, PixelSums, SpectralBands, SplatSums, Splats,
-};
+use crate::film::{add_sample, Film, FilmLayout, NonFinitePixel, SpectralBands, Splats, WindowSums};
+use crate::fixed::FixedSum;
 use crate::integrator::light_tracer::Scratch;
 use crate::integrator::{Beam, Fault, LightTracer, TraceStats, Whitted};
 use crate::memory;
+use crate::part::{PixelWindow, SampleSet};
 use crate::polarization::Stokes;
 use crate::sampler::{LightPathSequence, PixelKey, PixelRng};
 use crate::scene::{RenderSettings, Scene};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 
-/// Side of the square tiles rendered as units of parallel work, in pixels.
-const TILE: u32 = 16;
 /// Stack of each render thread: Whitted recursion runs on it, one frame per bounce.
 const THREAD_STACK_BYTES: usize = 64 << 20;
 /// Light paths per block: the unit of parallel work of the light tracer, and of its sample
@@ -38,6 +48,9 @@ const BLOCKS_PER_WAVE: u64 = 64;
 /// Mixed into the seed of the light paths' sample sequences, so that they are independent of
 /// the camera samples'.
 const LIGHT_PATH_SEED_SALT: u64 = 0x6c69_6768_7470_6174;
+/// Wall time a sample block aims at: how long a stop may wait, and how often the progress
+/// estimate is refreshed at the least.
+pub const TARGET_BLOCK_SECONDS: f64 = 2.0;
 
 /// What to render, beyond the scene.
 #[derive(Debug, Clone)]
@@ -54,13 +67,33 @@ pub struct Job {
     pub fault: Option<Fault>,
     /// Also record the mean spectral radiance in these bands (spectral output).
     pub bands: Option<SpectralBands>,
+    /// The sample indices to render; `None`: `0..spp`.
+    pub samples: Option<SampleSet>,
+    /// The pixels to render; `None`: the whole image.
+    pub window: Option<PixelWindow>,
+    /// Print a one-line progress report with the time left to standard error this often (for
+    /// logs, where no progress bar can be drawn).
+    pub progress_log: Option<Duration>,
+    /// Stop after this many sample blocks as if interrupted (a test hook for interruption).
+    pub stop_after_blocks: Option<u32>,
 }
 
 impl Job {
     /// A colour render with `settings`, one thread per core, no progress bar, no fault, no
-    /// spectral bands.
+    /// spectral bands, all samples of the whole image.
     pub fn new(settings: RenderSettings) -> Self {
-        Self { settings, threads: 0, monochromatic_nm: None, progress: false, fault: None, bands: None }
+        Self {
+            settings,
+            threads: 0,
+            monochromatic_nm: None,
+            progress: false,
+            fault: None,
+            bands: None,
+            samples: None,
+            window: None,
+            progress_log: None,
+            stop_after_blocks: None,
+        }
     }
 
     /// True when the render carries Stokes vectors: the scene asks for it and no fault drops it.
@@ -71,6 +104,11 @@ impl Job {
     /// What each pixel of the film holds.
     pub fn layout(&self) -> FilmLayout {
         FilmLayout { stokes: self.polarized(), bands: self.bands, monochromatic_nm: self.monochromatic_nm }
+    }
+
+    /// The sample indices to render.
+    pub fn sample_set(&self) -> SampleSet {
+        self.samples.clone().unwrap_or_else(|| SampleSet::range(0..self.settings.spp))
     }
 }
 
@@ -112,34 +150,79 @@ pub enum RenderError {
     NonFinite(#[from] NonFinitePixel),
 }
 
-/// Bytes of memory a render of `width`×`height` pixels of `layout` on `threads` threads needs,
-/// with its EXR and PNG output ([`memory::estimate`]), and with the light tracer's f64 splat sums
-/// (XYZ per Stokes component and the band values) when `caustics` is on.
-pub fn memory_needed(width: u32, height: u32, layout: &FilmLayout, threads: usize, caustics: bool) -> u64 {
-    let splat_sums = if caustics {
-        u64::from(width) * u64::from(height) * 8 * (3 * layout.components() + layout.band_values()) as u64
-    } else {
-        0
-    };
-    memory::estimate(width, height, layout.band_values(), threads as u64 * THREAD_STACK_BYTES as u64)
-        + splat_sums
+/// Bytes of memory a render of `width`×`height` pixels of `layout` on `threads` threads needs, with its
+/// EXR and PNG output ([`memory::estimate`]), and its exact sums (twice, with `light` sums, and
+/// once more for a part file's channels).
+pub fn memory_needed(width: u32, height: u32, layout: &FilmLayout, threads: usize, light: bool) -> u64 {
+    let sums = u64::from(width)
+        * u64::from(height)
+        * layout.values_per_pixel() as u64
+        * std::mem::size_of::<FixedSum>() as u64
+        * if light { 3 } else { 2 };
+    memory::estimate(width, height, layout.band_values(), threads as u64 * THREAD_STACK_BYTES as u64) + sums
 }
 
-/// Renders `scene` (its camera decides the resolution) as `job` says.
+/// A render's exact sums and what they hold.
+#[derive(Debug, Clone)]
+pub struct Rendered {
+    /// The per-pixel sums over the window.
+    pub sums: WindowSums,
+    /// The samples done: all those asked for, or the first of them when stopped early.
+    pub samples: SampleSet,
+    /// True when the render stopped before all its samples (interrupted).
+    pub interrupted: bool,
+    /// Light paths per pass (per sample), 0 without caustics.
+    pub light_paths_per_pass: u64,
+    /// Its figures.
+    pub stats: RenderStats,
+}
+
+impl Rendered {
+    /// The image of the samples done (checked finite).
+    pub fn film(&self, display: (u32, u32)) -> Result<Film, NonFinitePixel> {
+        let film = self.sums.film(self.samples.len(), self.light_paths_per_pass, display);
+        film.check_finite()?;
+        Ok(film)
+    }
+}
+
+/// Renders `scene` (its camera decides the resolution) as `job` says: the image of all the
+/// job's samples over its window.
 ///
 /// Errors before any work when the image cannot fit in memory, and after the render when a
 /// pixel is not finite (naming the first one).
 pub fn render(scene: &Scene, job: &Job) -> Result<(Film, RenderStats), RenderError> {
+    let rendered = render_sums(scene, job)?;
+    let film = rendered.film((scene.camera.width(), scene.camera.height()))?;
+    Ok((film, rendered.stats))
+}
+
+/// Renders the job's samples over its window into exact sums, stopping early at a sample block
+/// boundary when interrupted ([`crate::interrupt::stop_requested`]) or after
+/// [`Job::stop_after_blocks`] blocks.
+///
+/// Errors before any work when the sums cannot fit in memory, and when a sample's value cannot
+/// be summed (not finite, or beyond [`FixedSum`]'s range), naming the first such pixel.
+pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
     let (width, height) = (scene.camera.width(), scene.camera.height());
+    let window = job.window.unwrap_or(PixelWindow::full(width, height));
+    let samples = job.sample_set();
     // The pool's thread count, without starting a pool to ask it.
     let threads = match job.threads {
         0 => std::thread::available_parallelism().map_or(1, usize::from),
         n => n,
     };
+    let tracer = LightTracer::new(scene, &job.settings, job.monochromatic_nm).with_fault(job.fault);
+    let light_paths_per_pass = if job.settings.caustics && tracer.why_none().is_none() {
+        job.settings.light_paths.unwrap_or(u64::from(width) * u64::from(height))
+    } else {
+        0
+    };
+    let layout = job.layout();
     memory::check(
-        width,
-        height,
-        memory_needed(width, height, &job.layout(), threads, job.settings.caustics),
+        window.width(),
+        window.height(),
+        memory_needed(window.width(), window.height(), &layout, threads, light_paths_per_pass > 0),
     )?;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(job.threads)
@@ -147,27 +230,6 @@ pub fn render(scene: &Scene, job: &Job) -> Result<(Film, RenderStats), RenderErr
         .build()
         .map_err(|source| RenderError::ThreadPool { threads: job.threads, source })?;
     let threads = pool.current_num_threads();
-    let tiles: Vec<(u32, u32)> = (0..height.div_ceil(TILE))
-        .flat_map(|ty| (0..width.div_ceil(TILE)).map(move |tx| (tx * TILE, ty * TILE)))
-        .collect();
-    let tracer = LightTracer::new(scene, &job.settings, job.monochromatic_nm).with_fault(job.fault);
-    let light_paths = if tracer.why_none().is_none() {
-        job.settings.total_light_paths(u64::from(width) * u64::from(height))
-    } else {
-        0
-    };
-    let blocks = light_paths.div_ceil(LIGHT_PATH_BLOCK);
-    // Progress in camera samples and light paths, not tiles: edge tiles are smaller, and a count
-    // of tiles done overstated the progress of images whose width or height is not a multiple of
-    // the tile. (A light path costs about what a camera sample does.)
-    let samples = u64::from(width) * u64::from(height) * u64::from(job.settings.spp);
-    let progress = if job.progress { ProgressBar::new(samples + light_paths) } else { ProgressBar::hidden() };
-    if let Ok(style) =
-        ProgressStyle::with_template("{spinner} [{elapsed_precise}] {wide_bar} {percent}% eta {eta}")
-    {
-        progress.set_style(style);
-    }
-    let start = Instant::now();
     let integrator = Whitted::new(
         scene,
         job.settings.max_depth,
@@ -175,135 +237,261 @@ pub fn render(scene: &Scene, job: &Job) -> Result<(Film, RenderStats), RenderErr
         job.settings.area_light_samples,
     )
     .with_fault(job.fault);
-    let layout = job.layout();
-    let rendered: Vec<(Vec<PixelMeans>, TraceStats)> = pool.install(|| {
-        tiles
-            .par_iter()
-            // One tile per work item: rayon's default splitting stops early and left one core
-            // idle at the end of a render (1.67× → 1.98× from 1 to 2 threads on the showcase).
-            .with_max_len(1)
-            .map(|&(x0, y0)| {
-                let tile = if layout.stokes {
-                    render_tile::<Stokes>(scene, &integrator, job, &layout, x0, y0)
-                } else {
-                    render_tile::<SampledSpectrum>(scene, &integrator, job, &layout, x0, y0)
-                };
-                progress.inc(tile.0.len() as u64 * u64::from(job.settings.spp));
-                tile
-            })
-            .collect()
-    });
 
-    let mut pixels = vec![PixelMeans::default(); width as usize * height as usize];
+    // Progress in camera samples and light paths. (A light path costs about what a camera
+    // sample does.)
+    let per_sample = window.pixels() as u64 + light_paths_per_pass;
+    let progress =
+        if job.progress { ProgressBar::new(samples.len() * per_sample) } else { ProgressBar::hidden() };
+    if job.progress {
+        if let Ok(style) =
+            ProgressStyle::with_template("{spinner} [{elapsed_precise}] {wide_bar} {percent}% eta {eta}")
+        {
+            progress.set_style(style);
+        }
+    } else {
+        progress.set_length(samples.len() * per_sample);
+    }
+    let start = Instant::now();
+    let mut sums = WindowSums::new(window, layout, light_paths_per_pass > 0);
+    // Blocks go through the samples in order: the first `done` of them are done.
+    let mut done = 0u64;
+    let mut interrupted = false;
     let mut rays = 0;
-    for (&(x0, y0), (tile_pixels, stats)) in tiles.iter().zip(rendered) {
-        rays += stats.rays;
-        let tile_width = TILE.min(width - x0) as usize;
-        for (index, means) in tile_pixels.into_iter().enumerate() {
-            let (row, column) = (index / tile_width, index % tile_width);
-            pixels[(y0 as usize + row) * width as usize + x0 as usize + column] = means;
-        }
-    }
-
-    let light_start = Instant::now();
     let mut light_rays = 0;
-    if blocks > 0 {
-        let mut sums = SplatSums::new(pixels.len(), &layout);
-        for wave_start in (0..blocks).step_by(BLOCKS_PER_WAVE as usize) {
-            let wave: Vec<u64> = (wave_start..blocks.min(wave_start + BLOCKS_PER_WAVE)).collect();
-            let traced: Vec<(Splats, TraceStats)> = pool.install(|| {
-                wave.par_iter()
-                    .with_max_len(1)
-                    .map(|&block| {
-                        let traced = if layout.stokes {
-                            trace_block::<Stokes>(&tracer, job, &layout, block, light_paths)
-                        } else {
-                            trace_block::<SampledSpectrum>(&tracer, job, &layout, block, light_paths)
-                        };
-                        progress.inc(LIGHT_PATH_BLOCK.min(light_paths - block * LIGHT_PATH_BLOCK));
-                        traced
-                    })
-                    .collect()
-            });
-            for (splats, stats) in &traced {
-                sums.add(splats);
-                light_rays += stats.rays;
-            }
+    let mut light_elapsed = Duration::ZERO;
+    let finished = AtomicBool::new(false);
+    let result: Result<(), RenderError> = std::thread::scope(|scope| {
+        if let Some(every) = job.progress_log {
+            let (progress, finished) = (&progress, &finished);
+            scope.spawn(move || log_progress(progress, every, finished, start));
         }
-        sums.add_to(&mut pixels, light_paths, &layout);
-    }
+        let result = (|| {
+            let mut blocks = 0;
+            let mut block_len = 1u32;
+            for range in samples.ranges() {
+                let mut first = range.start;
+                while first < range.end {
+                    if crate::interrupt::stop_requested() || job.stop_after_blocks == Some(blocks) {
+                        interrupted = true;
+                        return Ok(());
+                    }
+                    let end = range.end.min(first.saturating_add(block_len));
+                    let block_start = Instant::now();
+                    let (block_rays, failed) = pool.install(|| {
+                        if layout.stokes {
+                            camera_block::<Stokes>(scene, &integrator, job, &mut sums, first..end, &progress)
+                        } else {
+                            camera_block::<SampledSpectrum>(
+                                scene,
+                                &integrator,
+                                job,
+                                &mut sums,
+                                first..end,
+                                &progress,
+                            )
+                        }
+                    });
+                    rays += block_rays;
+                    if let Some((x, y)) = failed {
+                        return Err(not_summable(x, y));
+                    }
+                    if light_paths_per_pass > 0 {
+                        let light_start = Instant::now();
+                        let paths =
+                            u64::from(first) * light_paths_per_pass..u64::from(end) * light_paths_per_pass;
+                        light_rays += light_block(&pool, &tracer, job, &mut sums, paths, width, &progress)?;
+                        light_elapsed += light_start.elapsed();
+                    }
+                    done += u64::from(end - first);
+                    blocks += 1;
+                    // The next block: about TARGET_BLOCK_SECONDS, growing at most fourfold.
+                    let seconds_per_sample = block_start.elapsed().as_secs_f64() / f64::from(end - first);
+                    let target = (TARGET_BLOCK_SECONDS / seconds_per_sample.max(1e-9)).floor();
+                    block_len = (target.min(f64::from(block_len) * 4.0) as u32).max(1);
+                    first = end;
+                }
+            }
+            Ok(())
+        })();
+        finished.store(true, Ordering::SeqCst);
+        result
+    });
+    result?;
     progress.finish_and_clear();
+    let done = samples.first(done);
     let stats = RenderStats {
         rays: rays + light_rays,
-        samples,
+        samples: done.len() * window.pixels() as u64,
         elapsed: start.elapsed(),
         threads,
-        light_paths,
+        light_paths: done.len() * light_paths_per_pass,
         light_rays,
-        light_elapsed: light_start.elapsed(),
+        light_elapsed,
     };
-    let film = Film::assemble(width, height, layout, pixels);
-    film.check_finite()?;
-    Ok((film, stats))
+    Ok(Rendered { sums, samples: done, interrupted, light_paths_per_pass, stats })
 }
 
-/// Traces light-path block `block` of a render of `light_paths` paths: its splats in path
-/// order, and its counters.
+/// The error for a pixel whose samples cannot be summed.
+fn not_summable(x: u32, y: u32) -> RenderError {
+    RenderError::NonFinite(NonFinitePixel { x, y, xyz: glam::Vec3::NAN })
+}
+
+/// Prints a line of progress with the time left every `every` until `finished`.
+fn log_progress(progress: &ProgressBar, every: Duration, finished: &AtomicBool, start: Instant) {
+    let mut last = Instant::now();
+    while !finished.load(Ordering::SeqCst) {
+        std::thread::sleep(Duration::from_millis(100));
+        if last.elapsed() < every {
+            continue;
+        }
+        last = Instant::now();
+        let (done, total) = (progress.position(), progress.length().unwrap_or(0).max(1));
+        let elapsed = start.elapsed().as_secs_f64();
+        let left = if done > 0 { elapsed * (total - done.min(total)) as f64 / done as f64 } else { f64::NAN };
+        eprintln!(
+            "progress: {:.1}% ({done} of {total} samples and light paths), {} elapsed, about {} left",
+            100.0 * done as f64 / total as f64,
+            clock(elapsed),
+            if left.is_finite() { clock(left) } else { "?".to_owned() }
+        );
+    }
+}
+
+/// Seconds as h:mm:ss.
+pub fn clock(seconds: f64) -> String {
+    let s = seconds.max(0.0).round() as u64;
+    format!("{}:{:02}:{:02}", s / 3600, s / 60 % 60, s % 60)
+}
+
+/// Adds samples `block` of every pixel of the window to `sums`, rows in parallel: the rays
+/// cast, and the first pixel whose samples could not be summed, if any.
+fn camera_block<B: Beam>(
+    scene: &Scene,
+    integrator: &Whitted,
+    job: &Job,
+    sums: &mut WindowSums,
+    block: std::ops::Range<u32>,
+    progress: &ProgressBar,
+) -> (u64, Option<(u32, u32)>) {
+    let window = sums.window();
+    let layout = *sums.layout();
+    let row_values = window.width() as usize * layout.values_per_pixel();
+    sums.camera_mut()
+        .par_chunks_mut(row_values)
+        // One row per work item: rows of glass and rows of wall cost very different times.
+        .with_max_len(1)
+        .enumerate()
+        .map(|(row, row_sums)| {
+            let y = window.y0 + row as u32;
+            let result =
+                render_row::<B>(scene, integrator, job, &layout, y, window.x0, row_sums, block.clone());
+            progress.inc(u64::from(window.width()) * u64::from(block.end - block.start));
+            result
+        })
+        .reduce(|| (0, None), |a, b| (a.0 + b.0, a.1.or(b.1)))
+}
+
+/// Traces light paths `paths` (numbers over the whole render) and adds their splats in the
+/// window to `sums`: the rays cast.
+fn light_block(
+    pool: &rayon::ThreadPool,
+    tracer: &LightTracer,
+    job: &Job,
+    sums: &mut WindowSums,
+    paths: std::ops::Range<u64>,
+    display_width: u32,
+    progress: &ProgressBar,
+) -> Result<u64, RenderError> {
+    let layout = *sums.layout();
+    let first_block = paths.start / LIGHT_PATH_BLOCK;
+    let end_block = paths.end.div_ceil(LIGHT_PATH_BLOCK);
+    let mut rays = 0;
+    for wave_start in (first_block..end_block).step_by(BLOCKS_PER_WAVE as usize) {
+        let wave: Vec<u64> = (wave_start..end_block.min(wave_start + BLOCKS_PER_WAVE)).collect();
+        let traced: Vec<(Splats, TraceStats)> = pool.install(|| {
+            wave.par_iter()
+                .with_max_len(1)
+                .map(|&block| {
+                    let first = paths.start.max(block * LIGHT_PATH_BLOCK);
+                    let end = paths.end.min((block + 1) * LIGHT_PATH_BLOCK);
+                    let traced = if layout.stokes {
+                        trace_block::<Stokes>(tracer, job, &layout, first..end)
+                    } else {
+                        trace_block::<SampledSpectrum>(tracer, job, &layout, first..end)
+                    };
+                    progress.inc(end - first);
+                    traced
+                })
+                .collect()
+        });
+        for (splats, stats) in &traced {
+            if let Some((x, y)) = sums.add_splats(splats, display_width) {
+                return Err(not_summable(x, y));
+            }
+            rays += stats.rays;
+        }
+    }
+    Ok(rays)
+}
+
+/// Traces the light paths `paths` (all inside one block): their splats in path order, and
+/// their counters.
 fn trace_block<B: Beam>(
     tracer: &LightTracer,
     job: &Job,
     layout: &FilmLayout,
-    block: u64,
-    light_paths: u64,
+    paths: std::ops::Range<u64>,
 ) -> (Splats, TraceStats) {
-    let first = block * LIGHT_PATH_BLOCK;
-    let count = LIGHT_PATH_BLOCK.min(light_paths - first) as u32;
-    // One sequence over all the render's light paths, whichever block traces them.
+    // One sequence over all the render's light paths, whichever block or part traces them.
     let sequence = LightPathSequence::new(job.settings.seed ^ LIGHT_PATH_SEED_SALT);
     let mut splats = Splats::default();
     let mut scratch = Scratch::<B>::default();
     let mut stats = TraceStats::default();
-    for path in 0..count {
-        let mut rng = sequence.path(first + u64::from(path));
+    for path in paths {
+        let mut rng = sequence.path(path);
         tracer.trace_path::<B>(&mut rng, layout, &mut splats, &mut scratch, &mut stats);
     }
     (splats, stats)
 }
 
-/// The means of every pixel of the tile at (`x0`, `y0`), row-major, carrying beams of type `B`.
-fn render_tile<B: Beam>(
+/// Adds samples `block` of the pixels `x0..` of row `y` to their sums `row_sums` (the row of the
+/// window), carrying beams of type `B`: the rays cast, and the first pixel whose samples could
+/// not be summed, if any.
+#[allow(clippy::too_many_arguments)] // the row's place and the render's state, passed flat
+fn render_row<B: Beam>(
     scene: &Scene,
     integrator: &Whitted,
     job: &Job,
     layout: &FilmLayout,
+    y: u32,
     x0: u32,
-    y0: u32,
-) -> (Vec<PixelMeans>, TraceStats) {
-    let (width, height) = (scene.camera.width(), scene.camera.height());
+    row_sums: &mut [FixedSum],
+    block: std::ops::Range<u32>,
+) -> (u64, Option<(u32, u32)>) {
     let settings = &job.settings;
     let mut stats = TraceStats::default();
-    let mut pixels = Vec::with_capacity((TILE * TILE) as usize);
-    let mut sums = PixelSums::new(layout);
-    for y in y0..(y0 + TILE).min(height) {
-        for x in x0..(x0 + TILE).min(width) {
-            sums.clear();
-            let key = PixelKey::new(settings.seed, x, y);
-            for sample in 0..settings.spp {
-                let mut rng = PixelRng::for_sample(key, sample);
-                // The position first: the sampler's first two dimensions are stratified jointly.
-                let (jx, jy) = (rng.uniform(), rng.uniform());
-                let u_lambda = rng.uniform();
-                let wavelengths = match job.monochromatic_nm {
-                    Some(nm) => SampledWavelengths::monochromatic(nm),
-                    None => SampledWavelengths::sample_visible(u_lambda, settings.wavelengths),
-                };
-                let ray = scene.camera.ray(x as f32 + jx, y as f32 + jy);
-                let frame_x = if B::POLARIZED { scene.camera.stokes_x(ray.dir) } else { ray.dir };
-                let light: B = integrator.radiance(&ray, frame_x, &wavelengths, &mut rng, &mut stats);
-                sums.add(&light, &wavelengths, layout);
+    let mut failed = None;
+    let stride = layout.values_per_pixel();
+    for (i, pixel_sums) in row_sums.chunks_exact_mut(stride).enumerate() {
+        let x = x0 + i as u32;
+        let key = PixelKey::new(settings.seed, x, y);
+        for sample in block.clone() {
+            let mut rng = PixelRng::for_sample(key, sample);
+            // The position first: the sampler's first two dimensions are stratified jointly.
+            let (jx, jy) = (rng.uniform(), rng.uniform());
+            let u_lambda = rng.uniform();
+            let wavelengths = match job.monochromatic_nm {
+                Some(nm) => SampledWavelengths::monochromatic(nm),
+                None => SampledWavelengths::sample_visible(u_lambda, settings.wavelengths),
+            };
+            let ray = scene.camera.ray(x as f32 + jx, y as f32 + jy);
+            let frame_x = if B::POLARIZED { scene.camera.stokes_x(ray.dir) } else { ray.dir };
+            let light: B = integrator.radiance(&ray, frame_x, &wavelengths, &mut rng, &mut stats);
+            if !add_sample(pixel_sums, &light, &wavelengths, layout) {
+                failed.get_or_insert((x, y));
             }
-            pixels.push(sums.means(settings.spp));
         }
     }
-    (pixels, stats)
+    (stats.rays, failed)
 }

@@ -5,6 +5,8 @@ mod bench;
 mod export;
 mod fresnel;
 mod glass;
+mod info;
+mod merge;
 mod plot;
 mod polviz;
 mod render;
@@ -24,6 +26,10 @@ pub struct Cli {
 enum Command {
     /// Render a scene file to an OpenEXR image and a PNG preview.
     Render(render::RenderArgs),
+    /// Add parts of a split render (sample ranges, crops, interrupted runs) into one image, exactly.
+    Merge(merge::MergeArgs),
+    /// Print what an EXR prisma wrote says about itself: provenance, samples, window, settings.
+    Info(info::InfoArgs),
     /// Export a scene as prisma resolved it: spectra.json (spectra and IORs per nm) and meshes as OBJ.
     Export(export::ExportArgs),
     /// Fresnel reflectance curves of an interface (CSV, plots), or a Mitsuba fixture against prisma.
@@ -38,13 +44,16 @@ enum Command {
     BenchRays(bench::BenchArgs),
 }
 
-/// A failed command: bad input (exit code 2) or a failure while running (exit code 1).
+/// A failed command: bad input (exit code 2), a failure while running (exit code 1), or an
+/// interrupted render that wrote what it had (exit code 130).
 #[derive(Debug)]
 pub enum CliError {
     /// The user's input is wrong (scene file, arguments).
     Input(anyhow::Error),
     /// Something failed while running (I/O, ...).
     Failed(anyhow::Error),
+    /// Interrupted (Ctrl-C, SIGTERM): the message says what was written.
+    Interrupted(anyhow::Error),
 }
 
 impl CliError {
@@ -53,11 +62,12 @@ impl CliError {
         match self {
             CliError::Input(_) => 2,
             CliError::Failed(_) => 1,
+            CliError::Interrupted(_) => 130,
         }
     }
     /// The whole error chain on one line.
     pub fn message(&self) -> String {
-        let (CliError::Input(e) | CliError::Failed(e)) = self;
+        let (CliError::Input(e) | CliError::Failed(e) | CliError::Interrupted(e)) = self;
         format!("{e:#}")
     }
 }
@@ -66,6 +76,8 @@ impl CliError {
 pub fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
         Some(Command::Render(args)) => render::run(&args),
+        Some(Command::Merge(args)) => merge::run(&args),
+        Some(Command::Info(args)) => info::run(&args),
         Some(Command::Export(args)) => export::run(&args),
         Some(Command::Fresnel(args)) => fresnel::run(&args),
         Some(Command::Glass(args)) => glass::run(&args),

@@ -9,13 +9,14 @@ use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 
 use super::{say, CliError};
-use prisma::film::SpectralBands;
+use prisma::film::{FilmLayout, SpectralBands, WindowSums};
 use prisma::integrator::LightTracer;
-use prisma::output::exr::encode_exr;
+use prisma::output::exr::encode_exr_part;
 use prisma::output::file::{check_destination, same_file, text_into, Destination, Outputs};
 use prisma::output::png::encode_png;
 use prisma::output::OutputError;
-use prisma::render::{render, Job, RenderError};
+use prisma::part::{read_part, PartHeader, PixelWindow, SampleSet};
+use prisma::render::{render_sums, Job, RenderError};
 use prisma::scene::build::{MAX_DEPTH, MAX_LIGHT_PATHS, MAX_RESOLUTION, MAX_SPP};
 use prisma::spectrum::{LAMBDA_MAX_NM, LAMBDA_MIN_NM};
 
@@ -83,6 +84,21 @@ pub struct RenderArgs {
     /// Wavelength range of the spectral bands, in nm [default: 360-830].
     #[arg(long, value_name = "MIN-MAX", requires = "spectral_bands")]
     spectral_range: Option<String>,
+    /// Render only sample indices A ≤ i < B of every pixel (a part of a split render; several
+    /// ranges: A..B,C..D). Implies --part.
+    #[arg(long, value_name = "A..B", conflicts_with = "resume")]
+    samples: Option<String>,
+    /// Render only the pixels X0 ≤ x < X1, Y0 ≤ y < Y1 (the EXR's data window; its display window
+    /// is the whole image). Implies --part.
+    #[arg(long, value_name = "X0,Y0,X1,Y1")]
+    crop: Option<String>,
+    /// Also write the exact per-pixel sums, so that `prisma merge` and `--resume` can use the file.
+    #[arg(long)]
+    part: bool,
+    /// Render the samples PART.exr (an interrupted render or any part) lacks, up to --spp (or its
+    /// own total), and write them merged with it. Implies --part.
+    #[arg(long, value_name = "PART.exr")]
+    resume: Option<PathBuf>,
     /// Render the embedded default scene instead of reading `scene`.
     #[arg(skip)]
     builtin: bool,
@@ -114,6 +130,10 @@ impl RenderArgs {
             light_paths: None,
             spectral_bands: None,
             spectral_range: None,
+            samples: None,
+            crop: None,
+            part: false,
+            resume: None,
         }
     }
 }
@@ -177,6 +197,77 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     settings.check_ray_tree_bound().map_err(|message| {
         CliError::Input(anyhow!("{}: with --max-depth: {message}", args.scene.display()))
     })?;
+    let input = |e: anyhow::Error| CliError::Input(e);
+    let prior = match &args.resume {
+        Some(path) => Some(read_part(path).map_err(|e| input(e.into()))?),
+        None => None,
+    };
+    if let (Some(prior), None) = (&prior, args.spp) {
+        // The part knows how many samples its render is to have.
+        settings.spp = prior.header.spp;
+    }
+    let window = match (&args.crop, &prior) {
+        (Some(text), _) => {
+            PixelWindow::parse(text, width, height).map_err(|e| input(anyhow!("--crop: {e}")))?
+        }
+        (None, Some(prior)) => prior.header.window,
+        (None, None) => PixelWindow::full(width, height),
+    };
+    let samples = match (&args.samples, &prior) {
+        (Some(text), _) => {
+            let samples = SampleSet::parse(text).map_err(|e| input(anyhow!("--samples: {e}")))?;
+            if samples.end() > settings.spp {
+                return Err(input(anyhow!(
+                    "--samples {samples} goes past the render's {} samples per pixel (raise --spp)",
+                    settings.spp
+                )));
+            }
+            samples
+        }
+        (None, Some(prior)) => prior.header.samples.missing_below(settings.spp),
+        (None, None) => SampleSet::range(0..settings.spp),
+    };
+    let light_paths_per_pass = if settings.caustics {
+        settings.light_paths.unwrap_or(u64::from(width) * u64::from(height))
+    } else {
+        0
+    };
+    let bands = bands.filter(|_| args.wavelength.is_none());
+    let layout = FilmLayout { stokes: settings.polarized, bands, monochromatic_nm: args.wavelength };
+    let threads = args.threads.unwrap_or(0) as usize;
+    let mut header = PartHeader::new(
+        &args.scene.display().to_string(),
+        &scene,
+        &settings,
+        &layout,
+        light_paths_per_pass,
+        window,
+    );
+    header.samples = samples.clone();
+    header.threads = threads;
+    if let Some(prior) = &prior {
+        let resumed = args.resume.as_deref().unwrap_or(Path::new("")).display();
+        if let Some((what, theirs, mine)) = prior.header.mismatch(&header) {
+            return Err(input(anyhow!(
+                "--resume {resumed}: the part has a different {what} ({theirs}) from this render's ({mine})"
+            )));
+        }
+        if window != prior.header.window {
+            return Err(input(anyhow!(
+                "--resume {resumed}: --crop {window} is not the part's window {}",
+                prior.header.window
+            )));
+        }
+        if samples.is_empty() {
+            return Err(input(anyhow!(
+                "--resume {resumed}: the part already holds samples {} of 0..{}: nothing to render (raise --spp for more)",
+                prior.header.samples,
+                settings.spp
+            )));
+        }
+    }
+    let is_part = args.part || args.samples.is_some() || args.crop.is_some() || prior.is_some();
+
     let stem = match args.wavelength {
         Some(nm) => format!("{}_{nm}nm", scene.name),
         None => scene.name.clone(),
@@ -184,23 +275,69 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let exr_path = args.output.clone().unwrap_or_else(|| Path::new("out").join(format!("{stem}.exr")));
     let destinations = Destinations::check(&exr_path, args.preview.as_deref(), args.stats.as_deref())?;
 
-    let show = !args.quiet && std::io::stderr().is_terminal();
+    let terminal = std::io::stderr().is_terminal();
+    let show = !args.quiet && terminal;
     let job = Job {
         settings: settings.clone(),
-        threads: args.threads.unwrap_or(0) as usize,
+        threads,
         monochromatic_nm: args.wavelength,
         progress: show,
         fault: None,
         // A monochromatic render is written as its one wavelength already.
-        bands: bands.filter(|_| args.wavelength.is_none()),
+        bands,
+        samples: Some(samples.clone()),
+        window: Some(window),
+        progress_log: (!args.quiet && !terminal).then_some(PROGRESS_LOG_EVERY),
+        stop_after_blocks: std::env::var(STOP_AFTER_BLOCKS_VARIABLE).ok().and_then(|v| v.parse().ok()),
     };
-    let (film, stats) = render(&scene, &job).map_err(|e| match e {
-        RenderError::ThreadPool { .. } => CliError::Failed(e.into()),
-        // Too large for this machine, or magnitudes that overflow: the input must change.
-        RenderError::TooLarge(_) | RenderError::NonFinite(_) => {
-            CliError::Input(anyhow::Error::from(e).context(args.scene.display().to_string()))
+    let stops = prisma::interrupt::accept_stops();
+    let rendered = render_sums(&scene, &job).map_err(|e| render_error(e, &args.scene))?;
+    // From here a signal abandons the outputs being written, as before any render.
+    drop(stops);
+    let stats = rendered.stats;
+
+    let (mut sums, mut done) = (rendered.sums.clone(), rendered.samples.clone());
+    if let Some(prior) = &prior {
+        sums = WindowSums::new(window, layout, light_paths_per_pass > 0);
+        for part in [&prior.sums, &rendered.sums] {
+            sums.add(part)
+                .map_err(|e| input(anyhow::Error::from(e).context(args.scene.display().to_string())))?;
         }
-    })?;
+        done = prior.header.samples.union(&rendered.samples);
+        header.wall_seconds = prior.header.wall_seconds;
+        header.threads = prior.header.threads;
+        header.parts = prior.header.parts + 1;
+    }
+    header.samples = done.clone();
+    header.wall_seconds += stats.elapsed.as_secs_f64();
+    header.threads = header.threads.max(stats.threads);
+    if done.is_empty() {
+        return Err(CliError::Interrupted(anyhow!(
+            "interrupted before the first sample block finished: nothing was written"
+        )));
+    }
+    let film = sums.film(done.len(), light_paths_per_pass, (width, height));
+    film.check_finite().map_err(|e| render_error(RenderError::NonFinite(e), &args.scene))?;
+
+    if rendered.interrupted {
+        let partial = partial_path(&destinations.exr);
+        let mut outputs = Outputs::new();
+        outputs
+            .stage(&partial, |sink| encode_exr_part(sink, &partial, &film, Some(&header), Some(&sums)))
+            .and_then(|()| outputs.commit())
+            .context("writing the interrupted render's part")
+            .map_err(CliError::Failed)?;
+        let resume = if args.builtin { String::new() } else { format!("{} ", args.scene.display()) };
+        return Err(CliError::Interrupted(anyhow!(
+            "interrupted: wrote samples {done} of 0..{} to {} (a part; {} is untouched); finish it with: \
+             prisma render {resume}--resume {} -o {}",
+            settings.spp,
+            partial.display(),
+            destinations.exr.display(),
+            partial.display(),
+            destinations.exr.display()
+        )));
+    }
 
     let seconds = stats.elapsed.as_secs_f64();
     let figures = serde_json::json!({
@@ -208,6 +345,8 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         "width": width,
         "height": height,
         "spp": settings.spp,
+        "samples_rendered": samples.to_string(),
+        "crop": window.to_string(),
         "wavelengths_per_sample": settings.wavelengths,
         "polarized": settings.polarized,
         "caustics": settings.caustics,
@@ -223,11 +362,17 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     });
     let writing = show.then(|| writing_spinner(&destinations));
     let rgb = film.linear_srgb();
+    let (crop_width, crop_height) = (window.width(), window.height());
     let mut outputs = Outputs::new();
+    let part_sums = is_part.then_some(&sums);
     let written = outputs
-        .stage(&destinations.exr, |sink| encode_exr(sink, &destinations.exr, &film))
+        .stage(&destinations.exr, |sink| {
+            encode_exr_part(sink, &destinations.exr, &film, Some(&header), part_sums)
+        })
         .and_then(|()| match &destinations.preview {
-            Some(png) => outputs.stage(png, |sink| encode_png(sink, png, width, height, &rgb, args.exposure)),
+            Some(png) => {
+                outputs.stage(png, |sink| encode_png(sink, png, crop_width, crop_height, &rgb, args.exposure))
+            }
             None => Ok(()),
         })
         .and_then(|()| match &destinations.stats {
@@ -250,8 +395,9 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         } else {
             String::new()
         };
+        let part = if is_part { format!(" (part: samples {done}, window {window})") } else { String::new() };
         say!(
-            "rendered {}: {width}×{height}, {} spp{caustics}, {}, {} in {seconds:.2} s on {} threads ({:.1} M rays, {:.2} M rays/s)",
+            "rendered {}: {width}×{height}, {} spp{caustics}{part}, {}, {} in {seconds:.2} s on {} threads ({:.1} M rays, {:.2} M rays/s)",
             args.scene.display(),
             settings.spp,
             if settings.polarized { "polarised" } else { "unpolarised" },
@@ -268,6 +414,31 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         say!("wrote {}", wrote.join(", "));
     }
     Ok(())
+}
+
+/// How often a render without a terminal prints a line of progress (for batch logs).
+const PROGRESS_LOG_EVERY: std::time::Duration = std::time::Duration::from_secs(10);
+/// A test hook: the environment variable that stops a render after that many sample blocks, as
+/// Ctrl-C would (the interruption tests use it instead of timing a signal).
+pub const STOP_AFTER_BLOCKS_VARIABLE: &str = "PRISMA_TEST_STOP_AFTER_BLOCKS";
+
+/// Where an interrupted render writing `exr` puts its part: `NAME.partial.exr` beside it, so that
+/// an existing `exr` (an earlier complete render) is never replaced by a partial one.
+fn partial_path(exr: &Path) -> PathBuf {
+    let stem = exr.file_stem().map_or_else(|| "render".into(), |s| s.to_string_lossy().into_owned());
+    let stem = stem.strip_suffix(".partial").unwrap_or(&stem).to_owned();
+    exr.with_file_name(format!("{stem}.partial.exr"))
+}
+
+/// A render error as a command error: bad input unless the thread pool failed.
+fn render_error(error: RenderError, scene: &Path) -> CliError {
+    match error {
+        RenderError::ThreadPool { .. } => CliError::Failed(error.into()),
+        // Too large for this machine, or magnitudes that overflow: the input must change.
+        RenderError::TooLarge(_) | RenderError::NonFinite(_) => {
+            CliError::Input(anyhow::Error::from(error).context(scene.display().to_string()))
+        }
+    }
 }
 
 /// The spectral bands asked for by `--spectral-bands N` and `--spectral-range MIN-MAX`.

@@ -15,19 +15,28 @@
 //! when polarised, `polarisationHandedness` = "right" (S3 > 0: the field turns clockwise for
 //! the receiver). A monochromatic render is written as what it is: only the channels
 //! `S<k>.<λ>nm` of its one wavelength, and the wavelength in the attribute `wavelengthNm`.
+//!
+//! A crop's data window is its pixel window and its display window the whole image. A render's
+//! provenance goes in `prisma.*` text attributes ([`crate::part::header`]), and a part's exact
+//! sums in `sums.*` 32-bit unsigned channels ([`crate::part::file`]).
 
 use std::path::Path;
 
-use ::exr::meta::attribute::{AttributeValue, Chromaticities, LineOrder, Text};
+use ::exr::compression::Compression;
+use ::exr::image::Blocks;
+use ::exr::meta::attribute::{AttributeValue, Chromaticities, IntegerBounds, LineOrder, Text};
 use ::exr::prelude::{
-    read_all_flat_layers_from_file, AnyChannel, AnyChannels, Encoding, FlatSamples, Image, Layer,
-    LayerAttributes, Vec2, WritableImage,
+    read_all_flat_layers_from_file, AnyChannel, AnyChannels, Encoding, FlatSamples, Image, ImageAttributes,
+    Layer, LayerAttributes, Vec2, WritableImage,
 };
 use glam::Vec3;
 
 use super::file::{write_file, Sink};
 use super::OutputError;
-use crate::film::Film;
+use crate::film::{Film, WindowSums};
+use crate::part::file::{implied_word, sum_channel_name, sums_digest};
+use crate::part::header::SUMS_FORMAT;
+use crate::part::PartHeader;
 
 /// The Fichet et al. channel name of Stokes component `k` at `lambda_nm`: `S0.560,000000nm`.
 pub fn spectral_channel_name(k: usize, lambda_nm: f32) -> String {
@@ -42,6 +51,19 @@ pub fn write_exr(path: &Path, film: &Film) -> Result<(), OutputError> {
 /// The EXR file of [`write_exr`] into `sink` (to stage it with other outputs,
 /// [`super::file::Outputs::stage`]); errors name `path`.
 pub fn encode_exr(sink: &mut Sink, path: &Path, film: &Film) -> Result<(), OutputError> {
+    encode_exr_part(sink, path, film, None, None)
+}
+
+/// [`encode_exr`] with a render's provenance `header` (`prisma.*` attributes,
+/// [`crate::part::header`]) and, for a part, its per-pixel `sums` ([`crate::part::file`]).
+/// The data window is the film's window, the display window the whole image.
+pub fn encode_exr_part(
+    sink: &mut Sink,
+    path: &Path,
+    film: &Film,
+    header: Option<&PartHeader>,
+    sums: Option<&WindowSums>,
+) -> Result<(), OutputError> {
     let layout = *film.layout();
     let components = layout.components();
     let vec3_channel = |name: String, values: &[Vec3], component: usize| {
@@ -94,15 +116,62 @@ pub fn encode_exr(sink: &mut Sink, path: &Path, film: &Film) -> Result<(), Outpu
             attributes.push(("polarisationHandedness", AttributeValue::Text(Text::from("right"))));
         }
     }
+    let mut texts: Vec<(&str, String)> = header.map(PartHeader::attributes).unwrap_or_default();
+    if let Some(sums) = sums {
+        texts.push(("prisma.sumsFormat", SUMS_FORMAT.to_owned()));
+        texts.push(("prisma.sumsSha256", sums_digest(sums)));
+        for (light, values) in [(false, sums.camera()), (true, sums.light())] {
+            if values.is_empty() {
+                continue;
+            }
+            let stride = sums.stride();
+            for value in 0..stride {
+                let words: Vec<[u32; 6]> =
+                    values.chunks_exact(stride).map(|pixel| pixel[value].to_words()).collect();
+                for word in 0..6 {
+                    // A word that is in every pixel what the reader would take in its place is
+                    // left out (`implied_word`): the high words of most sums, the low word of
+                    // many; the digest covers every word.
+                    if words.iter().all(|w| w[word] == implied_word(w, word)) {
+                        continue;
+                    }
+                    channels.push(AnyChannel::new(
+                        sum_channel_name(light, value, word).as_str(),
+                        FlatSamples::U32(words.iter().map(|w| w[word]).collect()),
+                    ));
+                }
+            }
+        }
+    }
+    for (name, text) in texts {
+        attributes.push((name, AttributeValue::Text(Text::from(text.as_str()))));
+    }
+    let (x0, y0) = film.origin();
     let layer = Layer::new(
         (film.width() as usize, film.height() as usize),
-        LayerAttributes::default(),
+        LayerAttributes { layer_position: Vec2(x0 as i32, y0 as i32), ..LayerAttributes::default() },
         // Blocks in increasing order: with the default unspecified order the crate writes the
         // blocks it compresses in parallel as they finish, so two writes of one image differed.
-        Encoding { line_order: LineOrder::Increasing, ..Encoding::FAST_LOSSLESS },
+        // A part is written uncompressed: its sums (up to six 32-bit words per value) took
+        // longer to compress and decompress than the render saved by splitting (docs/farm.md).
+        match sums {
+            None => Encoding { line_order: LineOrder::Increasing, ..Encoding::FAST_LOSSLESS },
+            Some(_) => Encoding {
+                compression: Compression::Uncompressed,
+                blocks: Blocks::ScanLines,
+                line_order: LineOrder::Increasing,
+            },
+        },
         AnyChannels::sort(channels),
     );
-    let mut image = Image::from_layer(layer);
+    let (display_width, display_height) = film.display();
+    let mut image = Image::new(
+        ImageAttributes::new(IntegerBounds::from_dimensions((
+            display_width as usize,
+            display_height as usize,
+        ))),
+        layer,
+    );
     if layout.monochromatic_nm.is_none() {
         image.attributes.chromaticities = Some(Chromaticities {
             red: Vec2(0.64, 0.33),

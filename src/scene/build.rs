@@ -152,6 +152,7 @@ impl Builder<'_> {
             material_names,
             lights,
             background,
+            digest: super::digest::scene_digest(self.text, self.path, &desc),
         })
     }
 

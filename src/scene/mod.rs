@@ -3,6 +3,7 @@
 
 pub mod build;
 pub mod desc;
+pub mod digest;
 pub mod error;
 pub mod limits;
 mod locate;
@@ -119,4 +120,6 @@ pub struct Scene {
     pub lights: Vec<Light>,
     /// Radiance of escaping rays, W·m⁻²·sr⁻¹·nm⁻¹.
     pub background: DenseSpectrum,
+    /// Hex SHA-256 of the scene file and the meshes it loads ([`digest::scene_digest`]).
+    pub digest: String,
 }

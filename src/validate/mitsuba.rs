@@ -121,7 +121,7 @@ pub fn run_case(
             monochromatic_nm: case.wavelength_nm,
             progress: false,
             fault: options.fault,
-            bands: None,
+            ..Job::new(settings.clone())
         };
         let (film, _) = render(&scene, &job)?;
         let data = case

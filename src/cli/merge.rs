@@ -1,0 +1,74 @@
+//! `prisma merge`: parts of a split render (sample ranges, crops, interrupted and resumed runs)
+//! added into one EXR, bit-identical to the single render of their union ([`prisma::part`]).
+
+use std::path::PathBuf;
+
+use anyhow::{anyhow, Context};
+use clap::Args;
+
+use super::{say, CliError};
+use prisma::output::exr::encode_exr_part;
+use prisma::output::file::{check_destination, same_file, Outputs};
+use prisma::part::{merge, read_part};
+
+/// Arguments of `prisma merge`.
+#[derive(Debug, Args)]
+pub struct MergeArgs {
+    /// The parts: EXRs written by `prisma render` with --samples, --crop, --part or --resume, or
+    /// by an interrupted render, in any order.
+    #[arg(required = true, value_name = "PART.exr")]
+    parts: Vec<PathBuf>,
+    /// The merged EXR (itself a part: it can be merged again or resumed).
+    #[arg(short, long, value_name = "OUT.exr")]
+    output: PathBuf,
+    /// Refuse unless the parts make the whole render: every pixel, samples 0..spp.
+    #[arg(long)]
+    complete: bool,
+    /// Do not print the summary.
+    #[arg(short, long)]
+    quiet: bool,
+}
+
+/// Runs `prisma merge`.
+pub fn run(args: &MergeArgs) -> Result<(), CliError> {
+    let input = CliError::Input;
+    check_destination(&args.output).map_err(|e| input(e.into()))?;
+    if !args.output.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr")) {
+        return Err(input(anyhow!(
+            "-o {}: the merged image is an EXR, so its name must end in .exr",
+            args.output.display()
+        )));
+    }
+    let mut parts = Vec::with_capacity(args.parts.len());
+    for (i, path) in args.parts.iter().enumerate() {
+        if args.parts[..i].iter().any(|earlier| same_file(earlier, path)) {
+            return Err(input(anyhow!("{}: given twice (its samples would count twice)", path.display())));
+        }
+        parts.push((path.clone(), read_part(path).map_err(|e| input(e.into()))?));
+    }
+    let merged = merge(&parts, args.complete).map_err(|e| input(e.into()))?;
+    let header = &merged.header;
+    let film = merged.sums.film(header.samples.len(), header.light_paths_per_pass, header.display);
+    film.check_finite().map_err(|e| input(anyhow::Error::from(e).context("the merged image")))?;
+    let mut outputs = Outputs::new();
+    outputs
+        .stage(&args.output, |sink| {
+            encode_exr_part(sink, &args.output, &film, Some(header), Some(&merged.sums))
+        })
+        .and_then(|()| outputs.commit())
+        .context("writing the merged image (nothing was written)")
+        .map_err(CliError::Failed)?;
+    if !args.quiet {
+        say!(
+            "merged {} parts: samples {} of 0..{}, window {} of {}×{} → {}",
+            parts.len(),
+            header.samples,
+            header.spp,
+            header.window,
+            header.display.0,
+            header.display.1,
+            args.output.display()
+        );
+    }
+    Ok(())
+}

@@ -1,0 +1,50 @@
+//! Ctrl-C and SIGTERM: what the binary's one signal handler does ([`on_signal`]).
+//!
+//! Normally the process is abandoned: [`crate::output::file::remove_temporaries`] removes the
+//! outputs being written, and the process exits with 130. While a render that can stop early
+//! runs ([`accept_stops`]), the first signal only asks it to stop at the end of the sample block
+//! in progress ([`stop_requested`]): it then writes what it has as a part and exits non-zero. A
+//! second signal abandons it as above. (Two atomics are the one piece of global state here: a
+//! signal handler has no other way to reach a render.)
+
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// A render is running that stops at a block boundary when asked.
+static ACCEPTING: AtomicBool = AtomicBool::new(false);
+/// A stop was asked for.
+static REQUESTED: AtomicBool = AtomicBool::new(false);
+
+/// Handles Ctrl-C, SIGTERM or SIGHUP (see the module documentation). Exits the process unless a
+/// render accepts a stop and none was asked for yet.
+pub fn on_signal() {
+    if ACCEPTING.load(Ordering::SeqCst) && !REQUESTED.swap(true, Ordering::SeqCst) {
+        eprintln!(
+            "\ninterrupted: stopping at the end of the current sample block to write what is done \
+             (interrupt again to abandon it)"
+        );
+        return;
+    }
+    crate::output::file::remove_temporaries();
+    std::process::exit(130);
+}
+
+/// While the returned guard lives, a signal asks the render to stop instead of exiting.
+pub fn accept_stops() -> StopGuard {
+    REQUESTED.store(false, Ordering::SeqCst);
+    ACCEPTING.store(true, Ordering::SeqCst);
+    StopGuard(())
+}
+
+/// Ends [`accept_stops`] when dropped.
+pub struct StopGuard(());
+
+impl Drop for StopGuard {
+    fn drop(&mut self) {
+        ACCEPTING.store(false, Ordering::SeqCst);
+    }
+}
+
+/// True once a stop was asked for while a render accepted stops.
+pub fn stop_requested() -> bool {
+    ACCEPTING.load(Ordering::SeqCst) && REQUESTED.load(Ordering::SeqCst)
+}

@@ -1,0 +1,113 @@
+//! [`merge`]: parts of one render added into the part of their union.
+//!
+//! Parts belong together when they come from the same renderer (version and commit), scene
+//! (SHA-256), seed, image size and settings. Their windows must be equal or disjoint; parts of
+//! one window must hold disjoint samples, and every window the same samples in all, so that
+//! every pixel of the result has the same samples; the windows must tile a rectangle. The sums
+//! are added exactly ([`crate::fixed::FixedSum`]): any number, grouping and order of parts
+//! gives the same bits, those of the single render of the union.
+
+use std::path::PathBuf;
+
+use super::{Part, PartHeader, PixelWindow, SampleSet};
+use crate::film::WindowSums;
+
+/// Why parts cannot be merged: one line naming the file(s).
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+pub struct MergeError(pub String);
+
+/// Adds `parts` (each with the file it came from, for messages) into one part. With
+/// `complete`, the result must be the whole render: every pixel and samples `0..spp`.
+pub fn merge(parts: &[(PathBuf, Part)], complete: bool) -> Result<Part, MergeError> {
+    let fail = |message: String| Err(MergeError(message));
+    let Some((first_path, first)) = parts.first() else { return fail("no parts to merge".into()) };
+    let name = |path: &PathBuf| path.display().to_string();
+    for (path, part) in &parts[1..] {
+        if let Some((what, mine, theirs)) = first.header.mismatch(&part.header) {
+            return fail(format!(
+                "{}: a different {what} from {}'s ({theirs} vs {mine}): parts of different renders do not merge",
+                name(path),
+                name(first_path)
+            ));
+        }
+    }
+    // No pixel sample in two parts.
+    for (i, (path_a, a)) in parts.iter().enumerate() {
+        for (path_b, b) in &parts[i + 1..] {
+            let (wa, wb) = (a.header.window, b.header.window);
+            if wa.overlaps(&wb) && a.header.samples.overlaps(&b.header.samples) {
+                return fail(format!(
+                    "{} and {}: overlapping parts: samples {} of window {wa} and samples {} of window {wb}",
+                    name(path_a),
+                    name(path_b),
+                    a.header.samples,
+                    b.header.samples
+                ));
+            }
+        }
+    }
+    // Every pixel of the bounding rectangle gets the same samples: checked on the cells that
+    // the windows' edges cut the rectangle into.
+    let bounds = parts.iter().skip(1).fold(first.header.window, |b, (_, p)| b.bounding(&p.header.window));
+    let edges = |pick: fn(&PixelWindow) -> [u32; 2]| {
+        let mut edges: Vec<u32> = parts.iter().flat_map(|(_, p)| pick(&p.header.window)).collect();
+        edges.sort_unstable();
+        edges.dedup();
+        edges
+    };
+    let (xs, ys) = (edges(|w| [w.x0, w.x1]), edges(|w| [w.y0, w.y1]));
+    let mut reference: Option<(SampleSet, PixelWindow)> = None;
+    for y in ys.windows(2) {
+        for x in xs.windows(2) {
+            let cell = PixelWindow { x0: x[0], y0: y[0], x1: x[1], y1: y[1] };
+            let samples = parts
+                .iter()
+                .filter(|(_, p)| p.header.window.contains_window(&cell))
+                .fold(SampleSet::default(), |set, (_, p)| set.union(&p.header.samples));
+            match &reference {
+                None => reference = Some((samples, cell)),
+                Some((expected, _)) if samples.is_empty() => {
+                    return fail(format!(
+                        "the parts leave pixels {cell} out: their windows must cover a rectangle ({bounds});                          the others have samples {expected}"
+                    ))
+                }
+                Some((expected, at)) if samples != *expected => {
+                    return fail(format!(
+                        "pixels {cell} would have samples {samples} but pixels {at} have {expected}:                          every pixel needs the same samples"
+                    ))
+                }
+                Some(_) => {}
+            }
+        }
+    }
+    let samples = reference.map(|(samples, _)| samples).unwrap_or_default();
+    let spp = parts.iter().map(|(_, p)| p.header.spp).max().unwrap_or(0);
+    if complete {
+        let (width, height) = first.header.display;
+        if bounds != PixelWindow::full(width, height) {
+            return fail(format!(
+                "--complete: the parts cover the window {bounds}, not the whole {width}×{height} image"
+            ));
+        }
+        let missing = samples.missing_below(spp);
+        if !missing.is_empty() {
+            return fail(format!("--complete: samples {missing} of 0..{spp} are missing"));
+        }
+    }
+    let layout = *first.sums.layout();
+    let mut sums = WindowSums::new(bounds, layout, first.sums.has_light());
+    for (path, part) in parts {
+        sums.add(&part.sums).map_err(|e| MergeError(format!("{}: {e}", name(path))))?;
+    }
+    let header = PartHeader {
+        samples: samples.clone(),
+        spp,
+        window: bounds,
+        wall_seconds: parts.iter().map(|(_, p)| p.header.wall_seconds).sum(),
+        threads: parts.iter().map(|(_, p)| p.header.threads).max().unwrap_or(0),
+        parts: parts.iter().map(|(_, p)| p.header.parts).sum(),
+        ..first.header.clone()
+    };
+    Ok(Part { header, sums })
+}

@@ -1,0 +1,234 @@
+//! `prisma render --samples/--crop/--part/--resume`, `prisma merge` and `prisma info` as users
+//! run them: parts merge into the single render's pixels, every refusal is one line with exit
+//! code 2 and no output, and an interrupted render (a test hook, and a real SIGINT) leaves an
+//! earlier output intact, writes a part and resumes into the uninterrupted image.
+
+use std::path::Path;
+use std::process::{Command, Output, Stdio};
+
+const SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/showcase.toml");
+
+fn prisma(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_prisma")).args(args).output().expect("prisma runs")
+}
+
+fn ok(args: &[&str]) -> String {
+    let output = prisma(args);
+    assert!(output.status.success(), "{args:?}: {}", String::from_utf8_lossy(&output.stderr));
+    String::from_utf8_lossy(&output.stdout).into_owned()
+}
+
+/// The `prisma info` line starting with `key:`.
+fn info(path: &Path, key: &str) -> String {
+    let text = ok(&["info", path.to_str().unwrap()]);
+    text.lines()
+        .find_map(|line| line.strip_prefix(&format!("{key}: ")))
+        .unwrap_or_else(|| panic!("no {key} in {text}"))
+        .to_owned()
+}
+
+fn render(dir: &Path, name: &str, extra: &[&str]) -> std::path::PathBuf {
+    let out = dir.join(name);
+    let mut args = vec!["render", SCENE, "--width", "48", "--height", "27", "--spp", "6", "-q", "-o"];
+    args.push(out.to_str().unwrap());
+    args.extend_from_slice(extra);
+    ok(&args);
+    out
+}
+
+fn refused(args: &[&str], expected: &str) {
+    let output = prisma(args);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(2), "{args:?}: {stderr}");
+    assert_eq!(stderr.trim_end().lines().count(), 1, "one line: {stderr}");
+    assert!(stderr.contains(expected), "{args:?}: expected \"{expected}\" in {stderr}");
+}
+
+#[test]
+fn parts_merge_into_the_single_render_and_info_tells_what_they_are() {
+    let dir = tempfile::tempdir().unwrap();
+    let single = render(dir.path(), "single.exr", &["--part"]);
+    let a = render(dir.path(), "a.exr", &["--samples", "0..2"]);
+    let b = render(dir.path(), "b.exr", &["--samples", "2..6", "--crop", "0,0,48,10", "--threads", "1"]);
+    let c = render(dir.path(), "c.exr", &["--samples", "2..6", "--crop", "0,10,48,27"]);
+    let merged = dir.path().join("merged.exr");
+    let summary = ok(&[
+        "merge",
+        "--complete",
+        c.to_str().unwrap(),
+        a.to_str().unwrap(),
+        b.to_str().unwrap(),
+        "-o",
+        merged.to_str().unwrap(),
+    ]);
+    assert!(summary.contains("merged 3 parts: samples 0..6 of 0..6"), "{summary}");
+    for key in ["imageSha256", "sumsSha256", "samples", "crop"] {
+        assert_eq!(info(&merged, key), info(&single, key), "{key}");
+    }
+    // A plain render has the same pixels (it keeps no sums).
+    let plain = render(dir.path(), "plain.exr", &[]);
+    assert_eq!(info(&plain, "imageSha256"), info(&single, "imageSha256"));
+    // What info prints: provenance, samples, window, settings, windows.
+    let text = ok(&["info", b.to_str().unwrap()]);
+    for expected in [
+        "version: ",
+        "commit: ",
+        "sceneSha256: ",
+        "seed: 1",
+        "samples: 2..6",
+        "spp: 6",
+        "crop: 0,0,48,10",
+        "\"max_depth\":12",
+        "\"prune_below\":0.01",
+        "\"wavelengths\":4",
+        "\"polarized\":true",
+        "\"caustics\":false",
+        "wallSeconds: ",
+        "threads: 1",
+        "displayWindow: 0,0,48,27",
+        "dataWindow: 0,0,48,10",
+    ] {
+        assert!(text.contains(expected), "no \"{expected}\" in:\n{text}");
+    }
+    assert_eq!(info(&merged, "parts"), "3");
+}
+
+#[test]
+fn merge_refusals_are_one_line_exit_2_and_write_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let a = render(dir.path(), "a.exr", &["--samples", "0..3"]);
+    let b = render(dir.path(), "b.exr", &["--samples", "2..6"]);
+    let seeded = render(dir.path(), "seeded.exr", &["--samples", "3..6", "--seed", "9"]);
+    let plain = render(dir.path(), "plain.exr", &[]);
+    let out = dir.path().join("out.exr");
+    let (a, b, seeded, plain, o) = (
+        a.to_str().unwrap(),
+        b.to_str().unwrap(),
+        seeded.to_str().unwrap(),
+        plain.to_str().unwrap(),
+        out.to_str().unwrap(),
+    );
+    refused(&["merge", a, b, "-o", o], "overlapping parts");
+    refused(&["merge", a, seeded, "-o", o], "different seed");
+    refused(&["merge", a, "--complete", "-o", o], "samples 3..6 of 0..6 are missing");
+    refused(&["merge", a, plain, "-o", o], "has no per-pixel sums");
+    refused(&["merge", a, a, "-o", o], "given twice");
+    // A truncated file and a corrupt one.
+    let bytes = std::fs::read(a).unwrap();
+    let truncated = dir.path().join("truncated.exr");
+    std::fs::write(&truncated, &bytes[..bytes.len() * 2 / 3]).unwrap();
+    refused(&["merge", truncated.to_str().unwrap(), "-o", o], "truncated.exr");
+    let mut flipped = bytes.clone();
+    let at = flipped.len() - 40;
+    flipped[at] ^= 0x5a;
+    let corrupt = dir.path().join("corrupt.exr");
+    std::fs::write(&corrupt, &flipped).unwrap();
+    refused(&["merge", corrupt.to_str().unwrap(), "-o", o], "corrupt.exr");
+    refused(&["merge", dir.path().join("none.exr").to_str().unwrap(), "-o", o], "none.exr");
+    assert!(!out.exists(), "no output after a refusal");
+    // Render-side refusals.
+    refused(&["render", SCENE, "--samples", "4..2", "-o", o], "--samples");
+    refused(&["render", SCENE, "--spp", "8", "--samples", "0..9", "-o", o], "goes past");
+    refused(&["render", SCENE, "--crop", "0,0,900,10", "-o", o], "--crop");
+    refused(
+        &["render", SCENE, "--width", "48", "--height", "27", "--resume", plain, "-o", o],
+        "has no per-pixel sums",
+    );
+}
+
+/// The test hook stops a render after its first sample block as Ctrl-C would: exit code 130, a
+/// part beside the output (whose earlier version is untouched), and `--resume` renders the rest
+/// into the uninterrupted image.
+#[test]
+fn an_interrupted_render_writes_a_part_and_resumes() {
+    let dir = tempfile::tempdir().unwrap();
+    let whole = render(dir.path(), "whole.exr", &["--part"]);
+    let out = dir.path().join("image.exr");
+    std::fs::write(&out, "an earlier render").unwrap();
+    let output = Command::new(env!("CARGO_BIN_EXE_prisma"))
+        .args(["render", SCENE, "--width", "48", "--height", "27", "--spp", "6", "-o", out.to_str().unwrap()])
+        .env("PRISMA_TEST_STOP_AFTER_BLOCKS", "1")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(130), "{stderr}");
+    assert!(stderr.contains("interrupted: wrote samples 0..1 of 0..6"), "{stderr}");
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), "an earlier render", "the earlier output is intact");
+    let partial = dir.path().join("image.partial.exr");
+    assert_eq!(info(&partial, "samples"), "0..1");
+    let resumed = dir.path().join("resumed.exr");
+    ok(&[
+        "render",
+        SCENE,
+        "--width",
+        "48",
+        "--height",
+        "27",
+        "-q",
+        "--resume",
+        partial.to_str().unwrap(),
+        "-o",
+        resumed.to_str().unwrap(),
+    ]);
+    assert_eq!(info(&resumed, "samples"), "0..6");
+    assert_eq!(info(&resumed, "parts"), "2");
+    for key in ["imageSha256", "sumsSha256"] {
+        assert_eq!(info(&resumed, key), info(&whole, key), "{key}");
+    }
+    // Resuming a part that is already whole renders nothing.
+    refused(
+        &[
+            "render",
+            SCENE,
+            "--width",
+            "48",
+            "--height",
+            "27",
+            "--resume",
+            resumed.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ],
+        "nothing to render",
+    );
+}
+
+/// A real SIGINT in the middle of a long render: it stops at the end of its sample block,
+/// writes its part and exits with 130.
+#[cfg(unix)]
+#[test]
+fn sigint_stops_a_render_at_a_block_boundary_and_keeps_its_samples() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("long.exr");
+    let child = Command::new(env!("CARGO_BIN_EXE_prisma"))
+        .args([
+            "render",
+            SCENE,
+            "--width",
+            "32",
+            "--height",
+            "18",
+            "--spp",
+            "1000000",
+            "--threads",
+            "1",
+            "-o",
+            out.to_str().unwrap(),
+        ])
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    let killed = Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap();
+    assert!(killed.success());
+    let output = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(130), "{stderr}");
+    assert!(stderr.contains("stopping at the end of the current sample block"), "{stderr}");
+    let partial = dir.path().join("long.partial.exr");
+    let samples = info(&partial, "samples");
+    let count: u32 = samples.strip_prefix("0..").and_then(|n| n.parse().ok()).expect("0..N");
+    assert!((1..1_000_000).contains(&count), "{samples}");
+    assert!(!out.exists());
+}
