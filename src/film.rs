@@ -228,23 +228,6 @@ impl WindowSums {
         }
     }
 
-    /// Sums read back from a part file: `camera` and `light` (empty without caustics) must
-    /// hold [`FilmLayout::values_per_pixel`] values per pixel of `window`; `None` otherwise.
-    pub fn from_values(
-        window: PixelWindow,
-        layout: FilmLayout,
-        camera: Vec<FixedSum>,
-        light: Vec<FixedSum>,
-    ) -> Option<Self> {
-        let values = window.pixels() * layout.values_per_pixel();
-        (camera.len() == values && (light.is_empty() || light.len() == values)).then_some(Self {
-            window,
-            layout,
-            camera,
-            light,
-        })
-    }
-
     /// The window.
     pub fn window(&self) -> PixelWindow {
         self.window
@@ -301,27 +284,37 @@ impl WindowSums {
     /// must match (checked by the caller: parts of one render). Errors name the first pixel
     /// whose sum overflows.
     pub fn add(&mut self, other: &WindowSums) -> Result<(), SumOverflow> {
-        assert!(self.window.contains_window(&other.window), "a part outside the merged window");
         assert_eq!(self.stride(), other.stride(), "parts of different layouts");
         let stride = self.stride();
-        let width = other.window.width() as usize;
-        for (row, y) in (other.window.y0..other.window.y1).enumerate() {
-            let from = row * width * stride;
+        self.add_with(other.window, false, |pixel, value| other.camera[pixel * stride + value])?;
+        if other.has_light() {
+            self.add_with(other.window, true, |pixel, value| other.light[pixel * stride + value])?;
+        }
+        Ok(())
+    }
+
+    /// Adds to the camera sums (or the light sums, when `light`) of the pixels of `window`,
+    /// which must lie inside this one, the values `value_of(pixel, value)`, pixels numbered
+    /// row-major in `window`. Errors name the first pixel whose sum overflows.
+    pub fn add_with(
+        &mut self,
+        window: PixelWindow,
+        light: bool,
+        value_of: impl Fn(usize, usize) -> FixedSum,
+    ) -> Result<(), SumOverflow> {
+        assert!(self.window.contains_window(&window), "a part outside the merged window");
+        let stride = self.stride();
+        let width = window.width() as usize;
+        let target = if light { &mut self.light } else { &mut self.camera };
+        for (row, y) in (window.y0..window.y1).enumerate() {
             let to = ((y - self.window.y0) as usize * self.window.width() as usize
-                + (other.window.x0 - self.window.x0) as usize)
+                + (window.x0 - self.window.x0) as usize)
                 * stride;
-            let pairs = [(&mut self.camera, &other.camera), (&mut self.light, &other.light)];
-            for (mine, theirs) in pairs {
-                if theirs.is_empty() {
-                    continue;
-                }
-                for (i, (sum, value)) in mine[to..to + width * stride]
-                    .iter_mut()
-                    .zip(&theirs[from..from + width * stride])
-                    .enumerate()
-                {
-                    if !sum.add(*value) {
-                        return Err(SumOverflow { x: other.window.x0 + (i / stride) as u32, y });
+            for (column, pixel_sums) in target[to..to + width * stride].chunks_exact_mut(stride).enumerate() {
+                let pixel = row * width + column;
+                for (value, sum) in pixel_sums.iter_mut().enumerate() {
+                    if !sum.add(value_of(pixel, value)) {
+                        return Err(SumOverflow { x: window.x0 + column as u32, y });
                     }
                 }
             }

@@ -62,7 +62,7 @@ fn parts_merge_into_the_single_render_and_info_tells_what_they_are() {
         merged.to_str().unwrap(),
     ]);
     assert!(summary.contains("merged 3 parts: samples 0..6 of 0..6"), "{summary}");
-    for key in ["imageSha256", "sumsSha256", "samples", "crop"] {
+    for key in ["imageSha256", "sumsBlake3", "samples", "crop"] {
         assert_eq!(info(&merged, key), info(&single, key), "{key}");
     }
     // A plain render has the same pixels (it keeps no sums).
@@ -123,7 +123,8 @@ fn merge_refusals_are_one_line_exit_2_and_write_nothing() {
     flipped[at] ^= 0x5a;
     let corrupt = dir.path().join("corrupt.exr");
     std::fs::write(&corrupt, &flipped).unwrap();
-    refused(&["merge", corrupt.to_str().unwrap(), "-o", o], "corrupt.exr");
+    // The last bytes are the last row of the last channel, a sum word (`sums.*` sort last).
+    refused(&["merge", corrupt.to_str().unwrap(), "-o", o], "corrupt.exr: corrupt: the sums do not match");
     refused(&["merge", dir.path().join("none.exr").to_str().unwrap(), "-o", o], "none.exr");
     assert!(!out.exists(), "no output after a refusal");
     // Render-side refusals.
@@ -172,7 +173,7 @@ fn an_interrupted_render_writes_a_part_and_resumes() {
     ]);
     assert_eq!(info(&resumed, "samples"), "0..6");
     assert_eq!(info(&resumed, "parts"), "2");
-    for key in ["imageSha256", "sumsSha256"] {
+    for key in ["imageSha256", "sumsBlake3"] {
         assert_eq!(info(&resumed, key), info(&whole, key), "{key}");
     }
     // Resuming a part that is already whole renders nothing.

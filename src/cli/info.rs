@@ -48,7 +48,7 @@ pub fn run(args: &InfoArgs) -> Result<(), CliError> {
         "prisma.threads",
         "prisma.parts",
         "prisma.sumsFormat",
-        "prisma.sumsSha256",
+        "prisma.sumsBlake3",
     ];
     prisma
         .sort_by_key(|(name, _)| (ORDER.iter().position(|o| o == name).unwrap_or(ORDER.len()), name.clone()));

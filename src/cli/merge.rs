@@ -9,7 +9,7 @@ use clap::Args;
 use super::{say, CliError};
 use prisma::output::exr::encode_exr_part;
 use prisma::output::file::{check_destination, same_file, Outputs};
-use prisma::part::{merge, read_part};
+use prisma::part::merge_files;
 
 /// Arguments of `prisma merge`.
 #[derive(Debug, Args)]
@@ -39,14 +39,12 @@ pub fn run(args: &MergeArgs) -> Result<(), CliError> {
             args.output.display()
         )));
     }
-    let mut parts = Vec::with_capacity(args.parts.len());
     for (i, path) in args.parts.iter().enumerate() {
         if args.parts[..i].iter().any(|earlier| same_file(earlier, path)) {
             return Err(input(anyhow!("{}: given twice (its samples would count twice)", path.display())));
         }
-        parts.push((path.clone(), read_part(path).map_err(|e| input(e.into()))?));
     }
-    let merged = merge(&parts, args.complete).map_err(|e| input(e.into()))?;
+    let merged = merge_files(&args.parts, args.complete).map_err(|e| input(e.into()))?;
     let header = &merged.header;
     let film = merged.sums.film(header.samples.len(), header.light_paths_per_pass, header.display);
     film.check_finite().map_err(|e| input(anyhow::Error::from(e).context("the merged image")))?;
@@ -61,7 +59,7 @@ pub fn run(args: &MergeArgs) -> Result<(), CliError> {
     if !args.quiet {
         say!(
             "merged {} parts: samples {} of 0..{}, window {} of {}×{} → {}",
-            parts.len(),
+            args.parts.len(),
             header.samples,
             header.spp,
             header.window,

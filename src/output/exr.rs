@@ -34,7 +34,7 @@ use glam::Vec3;
 use super::file::{write_file, Sink};
 use super::OutputError;
 use crate::film::{Film, WindowSums};
-use crate::part::file::{implied_word, sum_channel_name, sums_digest};
+use crate::part::file::{sum_channels, sums_digest};
 use crate::part::header::SUMS_FORMAT;
 use crate::part::PartHeader;
 
@@ -119,28 +119,11 @@ pub fn encode_exr_part(
     let mut texts: Vec<(&str, String)> = header.map(PartHeader::attributes).unwrap_or_default();
     if let Some(sums) = sums {
         texts.push(("prisma.sumsFormat", SUMS_FORMAT.to_owned()));
-        texts.push(("prisma.sumsSha256", sums_digest(sums)));
-        for (light, values) in [(false, sums.camera()), (true, sums.light())] {
-            if values.is_empty() {
-                continue;
-            }
-            let stride = sums.stride();
-            for value in 0..stride {
-                let words: Vec<[u32; 6]> =
-                    values.chunks_exact(stride).map(|pixel| pixel[value].to_words()).collect();
-                for word in 0..6 {
-                    // A word that is in every pixel what the reader would take in its place is
-                    // left out (`implied_word`): the high words of most sums, the low word of
-                    // many; the digest covers every word.
-                    if words.iter().all(|w| w[word] == implied_word(w, word)) {
-                        continue;
-                    }
-                    channels.push(AnyChannel::new(
-                        sum_channel_name(light, value, word).as_str(),
-                        FlatSamples::U32(words.iter().map(|w| w[word]).collect()),
-                    ));
-                }
-            }
+        let stored = sum_channels(sums);
+        texts
+            .push(("prisma.sumsBlake3", sums_digest(stored.iter().map(|(n, w)| (n.as_str(), w.as_slice())))));
+        for (name, words) in stored {
+            channels.push(AnyChannel::new(name.as_str(), FlatSamples::U32(words)));
         }
     }
     for (name, text) in texts {

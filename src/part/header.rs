@@ -11,7 +11,7 @@
 //! | `prisma.crop` | the pixel window `X0,Y0,X1,Y1` (also the EXR data window) |
 //! | `prisma.settings` | the integrator settings as JSON: `max_depth`, `prune_below`, `wavelengths` (per sample), `area_light_samples`, `polarized`, `caustics`, `light_paths` (per pass, 0 without caustics), `spectral_bands`, `monochromatic_nm` |
 //! | `prisma.wallSeconds`, `prisma.threads`, `prisma.parts` | render time (summed over merged parts), threads (the most any part used), parts merged into this file |
-//! | `prisma.sumsFormat`, `prisma.sumsSha256` | present when the file holds per-pixel sums: their format and a SHA-256 of them (corruption check) |
+//! | `prisma.sumsFormat`, `prisma.sumsBlake3` | present when the file holds per-pixel sums: their format and a BLAKE3 digest of them (corruption check) |
 
 use crate::film::FilmLayout;
 use crate::scene::{RenderSettings, Scene};
@@ -19,9 +19,10 @@ use crate::scene::{RenderSettings, Scene};
 use super::{PixelWindow, SampleSet};
 
 /// The format of the sums a part holds: 192-bit fixed point with 2⁻⁶⁴ quanta, as up to six
-/// 32-bit words per value ([`crate::fixed::FixedSum`], [`crate::part::file`]). A different
-/// format is a different renderer.
-pub const SUMS_FORMAT: &str = "fixed192-q64";
+/// 32-bit words per value ([`crate::fixed::FixedSum`], [`crate::part::file`]), with a digest of
+/// the stored channels (`-v2`: the first format's digest covered all six words of every value,
+/// implied or not). A different format is a different renderer.
+pub const SUMS_FORMAT: &str = "fixed192-q64-v2";
 
 /// The renderer's version (Cargo).
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");

@@ -9,6 +9,7 @@
 
 use std::path::PathBuf;
 
+use super::file::{read_part_header, PartError, StoredPart};
 use super::{Part, PartHeader, PixelWindow, SampleSet};
 use crate::film::WindowSums;
 
@@ -20,11 +21,46 @@ pub struct MergeError(pub String);
 /// Adds `parts` (each with the file it came from, for messages) into one part. With
 /// `complete`, the result must be the whole render: every pixel and samples `0..spp`.
 pub fn merge(parts: &[(PathBuf, Part)], complete: bool) -> Result<Part, MergeError> {
+    let headers: Vec<(&PathBuf, &PartHeader)> =
+        parts.iter().map(|(path, part)| (path, &part.header)).collect();
+    let header = plan(&headers, complete)?;
+    let mut sums = WindowSums::new(header.window, header.layout(), header.light_paths_per_pass > 0);
+    for (path, part) in parts {
+        sums.add(&part.sums).map_err(|e| MergeError(format!("{}: {e}", path.display())))?;
+    }
+    Ok(Part { header, sums })
+}
+
+/// [`merge`] of the part files `paths`: their headers are read and checked first, then one
+/// file after another is read and added, so that a merge holds one part's sums at a time
+/// besides the result. Errors name the file.
+pub fn merge_files(paths: &[PathBuf], complete: bool) -> Result<Part, MergeError> {
+    let problem = |e: PartError| MergeError(e.to_string());
+    let headers = paths
+        .iter()
+        .map(|path| read_part_header(path).map(|header| (path, header)))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(problem)?;
+    let header = plan(&headers.iter().map(|(path, header)| (*path, header)).collect::<Vec<_>>(), complete)?;
+    let mut sums = WindowSums::new(header.window, header.layout(), header.light_paths_per_pass > 0);
+    for (path, expected) in &headers {
+        let part = StoredPart::read(path).map_err(problem)?;
+        if part.header != *expected {
+            return Err(MergeError(format!("{}: changed while being merged", path.display())));
+        }
+        part.add_to(&mut sums).map_err(problem)?;
+    }
+    Ok(Part { header, sums })
+}
+
+/// Checks that the parts with headers `parts` merge (see the module) and returns the header of
+/// their union; with `complete`, that they make the whole render.
+fn plan(parts: &[(&PathBuf, &PartHeader)], complete: bool) -> Result<PartHeader, MergeError> {
     let fail = |message: String| Err(MergeError(message));
     let Some((first_path, first)) = parts.first() else { return fail("no parts to merge".into()) };
     let name = |path: &PathBuf| path.display().to_string();
     for (path, part) in &parts[1..] {
-        if let Some((what, mine, theirs)) = first.header.mismatch(&part.header) {
+        if let Some((what, mine, theirs)) = first.mismatch(part) {
             return fail(format!(
                 "{}: a different {what} from {}'s ({theirs} vs {mine}): parts of different renders do not merge",
                 name(path),
@@ -35,23 +71,23 @@ pub fn merge(parts: &[(PathBuf, Part)], complete: bool) -> Result<Part, MergeErr
     // No pixel sample in two parts.
     for (i, (path_a, a)) in parts.iter().enumerate() {
         for (path_b, b) in &parts[i + 1..] {
-            let (wa, wb) = (a.header.window, b.header.window);
-            if wa.overlaps(&wb) && a.header.samples.overlaps(&b.header.samples) {
+            let (wa, wb) = (a.window, b.window);
+            if wa.overlaps(&wb) && a.samples.overlaps(&b.samples) {
                 return fail(format!(
                     "{} and {}: overlapping parts: samples {} of window {wa} and samples {} of window {wb}",
                     name(path_a),
                     name(path_b),
-                    a.header.samples,
-                    b.header.samples
+                    a.samples,
+                    b.samples
                 ));
             }
         }
     }
     // Every pixel of the bounding rectangle gets the same samples: checked on the cells that
     // the windows' edges cut the rectangle into.
-    let bounds = parts.iter().skip(1).fold(first.header.window, |b, (_, p)| b.bounding(&p.header.window));
+    let bounds = parts.iter().skip(1).fold(first.window, |b, (_, p)| b.bounding(&p.window));
     let edges = |pick: fn(&PixelWindow) -> [u32; 2]| {
-        let mut edges: Vec<u32> = parts.iter().flat_map(|(_, p)| pick(&p.header.window)).collect();
+        let mut edges: Vec<u32> = parts.iter().flat_map(|(_, p)| pick(&p.window)).collect();
         edges.sort_unstable();
         edges.dedup();
         edges
@@ -63,18 +99,20 @@ pub fn merge(parts: &[(PathBuf, Part)], complete: bool) -> Result<Part, MergeErr
             let cell = PixelWindow { x0: x[0], y0: y[0], x1: x[1], y1: y[1] };
             let samples = parts
                 .iter()
-                .filter(|(_, p)| p.header.window.contains_window(&cell))
-                .fold(SampleSet::default(), |set, (_, p)| set.union(&p.header.samples));
+                .filter(|(_, p)| p.window.contains_window(&cell))
+                .fold(SampleSet::default(), |set, (_, p)| set.union(&p.samples));
             match &reference {
                 None => reference = Some((samples, cell)),
                 Some((expected, _)) if samples.is_empty() => {
                     return fail(format!(
-                        "the parts leave pixels {cell} out: their windows must cover a rectangle ({bounds});                          the others have samples {expected}"
+                        "the parts leave pixels {cell} out: their windows must cover a rectangle ({bounds}); \
+                         the others have samples {expected}"
                     ))
                 }
                 Some((expected, at)) if samples != *expected => {
                     return fail(format!(
-                        "pixels {cell} would have samples {samples} but pixels {at} have {expected}:                          every pixel needs the same samples"
+                        "pixels {cell} would have samples {samples} but pixels {at} have {expected}: \
+                         every pixel needs the same samples"
                     ))
                 }
                 Some(_) => {}
@@ -82,9 +120,9 @@ pub fn merge(parts: &[(PathBuf, Part)], complete: bool) -> Result<Part, MergeErr
         }
     }
     let samples = reference.map(|(samples, _)| samples).unwrap_or_default();
-    let spp = parts.iter().map(|(_, p)| p.header.spp).max().unwrap_or(0);
+    let spp = parts.iter().map(|(_, p)| p.spp).max().unwrap_or(0);
     if complete {
-        let (width, height) = first.header.display;
+        let (width, height) = first.display;
         if bounds != PixelWindow::full(width, height) {
             return fail(format!(
                 "--complete: the parts cover the window {bounds}, not the whole {width}×{height} image"
@@ -95,19 +133,13 @@ pub fn merge(parts: &[(PathBuf, Part)], complete: bool) -> Result<Part, MergeErr
             return fail(format!("--complete: samples {missing} of 0..{spp} are missing"));
         }
     }
-    let layout = *first.sums.layout();
-    let mut sums = WindowSums::new(bounds, layout, first.sums.has_light());
-    for (path, part) in parts {
-        sums.add(&part.sums).map_err(|e| MergeError(format!("{}: {e}", name(path))))?;
-    }
-    let header = PartHeader {
-        samples: samples.clone(),
+    Ok(PartHeader {
+        samples,
         spp,
         window: bounds,
-        wall_seconds: parts.iter().map(|(_, p)| p.header.wall_seconds).sum(),
-        threads: parts.iter().map(|(_, p)| p.header.threads).max().unwrap_or(0),
-        parts: parts.iter().map(|(_, p)| p.header.parts).sum(),
-        ..first.header.clone()
-    };
-    Ok(Part { header, sums })
+        wall_seconds: parts.iter().map(|(_, p)| p.wall_seconds).sum(),
+        threads: parts.iter().map(|(_, p)| p.threads).max().unwrap_or(0),
+        parts: parts.iter().map(|(_, p)| p.parts).sum(),
+        ..(*first).clone()
+    })
 }

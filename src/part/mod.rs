@@ -21,6 +21,6 @@ pub mod window;
 
 pub use file::{read_part, Part, PartError};
 pub use header::PartHeader;
-pub use merge::{merge, MergeError};
+pub use merge::{merge, merge_files, MergeError};
 pub use samples::SampleSet;
 pub use window::PixelWindow;

@@ -1,11 +1,14 @@
 #!/bin/bash
 # CPU time of the showcase rendered whole against split into 8 parts (4 sample ranges × 2
-# crops) and merged: user+system seconds from /usr/bin/time, each command run in turn.
+# crops) and merged: user+system seconds from /usr/bin/time, each command run in turn,
+# REPEATS times over (single, parts, merge, single, parts, merge, …), so that the machine's
+# drift falls on both sides alike. Prints every repeat's ratio and the ratio of the medians.
 #
-#   validation/farm/measure_cpu.sh [THREADS]
+#   validation/farm/measure_cpu.sh [THREADS] [REPEATS]
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 threads=${1:-2}
+repeats=${2:-1}
 prisma=target/release/prisma
 scene=scenes/showcase.toml
 out=out/farm_cpu
@@ -14,19 +17,28 @@ cpu() { # command... → prints user+system seconds of it
     /usr/bin/time -f "%U %S" -o "$out/time" "$@" >/dev/null
     awk '{ printf "%.2f", $1 + $2 }' "$out/time"
 }
-single=$(cpu "$prisma" render "$scene" --threads "$threads" -o "$out/single.exr" --preview /dev/null)
-echo "single render: $single s"
-parts=0
-for t in $(seq 0 7); do
-    r=$((t % 4)); c=$((t / 4))
-    s=$(cpu "$prisma" render "$scene" --threads "$threads" --samples "$((8 * r))..$((8 * r + 8))" \
-        --crop "0,$((225 * c)),800,$((225 * c + 225))" -o "$out/part_$t.exr" --preview /dev/null)
-    echo "part $t: $s s"
-    parts=$(echo "$parts + $s" | bc)
+median() { sort -g | awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
+singles=() totals=() merges=()
+for rep in $(seq 1 "$repeats"); do
+    single=$(cpu "$prisma" render "$scene" --threads "$threads" -o "$out/single.exr" --preview /dev/null)
+    parts=0 list=""
+    for t in $(seq 0 7); do
+        r=$((t % 4)); c=$((t / 4))
+        s=$(cpu "$prisma" render "$scene" --threads "$threads" --samples "$((8 * r))..$((8 * r + 8))" \
+            --crop "0,$((225 * c)),800,$((225 * c + 225))" -o "$out/part_$t.exr" --preview /dev/null)
+        parts=$(echo "$parts + $s" | bc) list="$list $s"
+    done
+    merge=$(cpu "$prisma" merge --complete "$out"/part_*.exr -o "$out/merged.exr")
+    total=$(echo "$parts + $merge" | bc)
+    echo "repeat $rep: single $single s; parts$list = $parts s; merge $merge s;" \
+        "parts + merge $total s; ratio $(echo "scale=3; $total / $single" | bc)"
+    diff <("$prisma" info "$out/single.exr" | grep imageSha256) \
+        <("$prisma" info "$out/merged.exr" | grep imageSha256) >/dev/null \
+        || { echo "the merged image differs from the single render" >&2; exit 1; }
+    singles+=("$single") totals+=("$total") merges+=("$merge")
 done
-merge=$(cpu "$prisma" merge --complete "$out"/part_*.exr -o "$out/merged.exr")
-echo "merge: $merge s"
-total=$(echo "$parts + $merge" | bc)
-echo "8 parts + merge: $total s; ratio to the single render: $(echo "scale=3; $total / $single" | bc)"
-diff <("$prisma" info "$out/single.exr" | grep imageSha256) <("$prisma" info "$out/merged.exr" | grep imageSha256) \
-    && echo "merged image bit-identical to the single render"
+ms=$(printf '%s\n' "${singles[@]}" | median)
+mt=$(printf '%s\n' "${totals[@]}" | median)
+mm=$(printf '%s\n' "${merges[@]}" | median)
+echo "median of $repeats: single $ms s, parts + merge $mt s (merge $mm s): ratio $(echo "scale=3; $mt / $ms" | bc);" \
+    "every merged image bit-identical to its single render"
