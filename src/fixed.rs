@@ -25,17 +25,19 @@ pub const FRACTION_BITS: i32 = 64;
 /// Largest magnitude (exclusive) of one contribution, as a power of two.
 const MAX_CONTRIBUTION_LOG2: i32 = 126;
 
-/// An exact sum: 192-bit two's complement, `lo` the low 128 bits, `hi` the high 64 (signed),
-/// in units of 2⁻⁶⁴.
+/// An exact sum: 192-bit two's complement, `lo` the low 128 bits (as two 64-bit halves, low
+/// first), `hi` the high 64 (signed), in units of 2⁻⁶⁴. Halves rather than a `u128`, whose
+/// 16-byte alignment padded every sum to 32 bytes: a render holds one sum per value per pixel,
+/// and 24 bytes is a quarter less memory for the same arithmetic.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct FixedSum {
-    lo: u128,
+    lo: [u64; 2],
     hi: i64,
 }
 
 impl FixedSum {
     /// Zero.
-    pub const ZERO: Self = Self { lo: 0, hi: 0 };
+    pub const ZERO: Self = Self { lo: [0, 0], hi: 0 };
 
     /// `value` rounded to the nearest multiple of the quantum (halves away from zero), or
     /// `None` when it is not finite or its magnitude is 2¹²⁶ or more.
@@ -70,7 +72,7 @@ impl FixedSum {
                 (u128::from(mantissa) + (1u128 << (right - 1))) >> right
             }
         };
-        let sum = Self { lo: magnitude, hi: 0 };
+        let sum = Self::from_parts(magnitude, 0);
         Some(if negative { sum.negated() } else { sum })
     }
 
@@ -80,7 +82,7 @@ impl FixedSum {
         // shifted holds bits 64.. of the value: its low 64 bits are the value's bits 64..128.
         let lo = (shifted as u64 as u128) << 64;
         let hi = (shifted >> 64) as i64;
-        let sum = Self { lo, hi };
+        let sum = Self::from_parts(lo, hi);
         if negative {
             sum.negated()
         } else {
@@ -91,19 +93,19 @@ impl FixedSum {
     /// The two's-complement negation.
     #[inline]
     fn negated(self) -> Self {
-        let (lo, borrow) = 0u128.overflowing_sub(self.lo);
-        Self { lo, hi: self.hi.wrapping_neg().wrapping_sub(i64::from(borrow)) }
+        let (lo, borrow) = 0u128.overflowing_sub(self.low());
+        Self::from_parts(lo, self.hi.wrapping_neg().wrapping_sub(i64::from(borrow)))
     }
 
     /// Adds `other`; false (leaving `self` unchanged) when the sum would leave the range.
     #[inline]
     #[must_use]
     pub fn add(&mut self, other: Self) -> bool {
-        let (lo, carry) = self.lo.overflowing_add(other.lo);
+        let (lo, carry) = self.low().overflowing_add(other.low());
         let hi = self.hi.checked_add(other.hi).and_then(|h| h.checked_add(i64::from(carry)));
         match hi {
             Some(hi) => {
-                *self = Self { lo, hi };
+                *self = Self::from_parts(lo, hi);
                 true
             }
             None => false,
@@ -124,7 +126,7 @@ impl FixedSum {
     /// True when zero.
     #[inline]
     pub fn is_zero(&self) -> bool {
-        self.lo == 0 && self.hi == 0
+        self.lo == [0, 0] && self.hi == 0
     }
 
     /// The sum as the nearest f64 (up to the rounding of a two-step conversion: deterministic,
@@ -132,12 +134,13 @@ impl FixedSum {
     pub fn to_f64(&self) -> f64 {
         let scale = (-FRACTION_BITS as f64).exp2();
         // Fits in an i128: one correctly rounded conversion.
-        let fits = (self.hi == 0 && self.lo >> 127 == 0) || (self.hi == -1 && self.lo >> 127 == 1);
+        let lo = self.low();
+        let fits = (self.hi == 0 && lo >> 127 == 0) || (self.hi == -1 && lo >> 127 == 1);
         if fits {
-            return (self.lo as i128) as f64 * scale;
+            return (lo as i128) as f64 * scale;
         }
         // hi·2^128 + lo, hi signed, lo unsigned: both parts are converted and added.
-        (self.hi as f64 * 2f64.powi(128) + self.lo as f64) * scale
+        (self.hi as f64 * 2f64.powi(128) + lo as f64) * scale
     }
 
     /// The sum divided by `count`, as f64 (the mean of `count` contributions).
@@ -149,10 +152,10 @@ impl FixedSum {
     pub fn to_words(&self) -> [u32; 6] {
         let hi = self.hi as u64;
         [
-            self.lo as u32,
-            (self.lo >> 32) as u32,
-            (self.lo >> 64) as u32,
-            (self.lo >> 96) as u32,
+            self.lo[0] as u32,
+            (self.lo[0] >> 32) as u32,
+            self.lo[1] as u32,
+            (self.lo[1] >> 32) as u32,
             hi as u32,
             (hi >> 32) as u32,
         ]
@@ -162,7 +165,19 @@ impl FixedSum {
     pub fn from_words(words: [u32; 6]) -> Self {
         let lo = words[..4].iter().rev().fold(0u128, |acc, &w| (acc << 32) | u128::from(w));
         let hi = ((u64::from(words[5]) << 32) | u64::from(words[4])) as i64;
-        Self { lo, hi }
+        Self::from_parts(lo, hi)
+    }
+
+    /// The low 128 bits.
+    #[inline]
+    fn low(&self) -> u128 {
+        (u128::from(self.lo[1]) << 64) | u128::from(self.lo[0])
+    }
+
+    /// The sum of low 128 bits `lo` and high 64 bits `hi`.
+    #[inline]
+    fn from_parts(lo: u128, hi: i64) -> Self {
+        Self { lo: [lo as u64, (lo >> 64) as u64], hi }
     }
 }
 

@@ -169,8 +169,12 @@ fn an_interrupted_render_resumes_into_the_uninterrupted_image() {
     assert!(nothing.interrupted && nothing.samples.is_empty());
 }
 
+/// The one-line message of a refused merge (no runs of spaces: two messages once carried a
+/// line's indentation in the middle).
 fn refusal(parts: &[(PathBuf, Part)], complete: bool) -> String {
-    merge(parts, complete).expect_err("refused").to_string()
+    let message = merge(parts, complete).expect_err("refused").to_string();
+    assert!(!message.contains('\n') && !message.contains("  "), "{message:?}");
+    message
 }
 
 /// Each reason to refuse a merge, with a message naming it.
