@@ -48,6 +48,8 @@ const BLOCKS_PER_WAVE: u64 = 64;
 /// Mixed into the seed of the light paths' sample sequences, so that they are independent of
 /// the camera samples'.
 const LIGHT_PATH_SEED_SALT: u64 = 0x6c69_6768_7470_6174;
+/// When a render without a terminal logs its first progress line.
+const FIRST_PROGRESS_LOG: Duration = Duration::from_secs(1);
 /// Wall time a sample block aims at: how long a stop may wait, and how often the progress
 /// estimate is refreshed at the least.
 pub const TARGET_BLOCK_SECONDS: f64 = 2.0;
@@ -337,15 +339,17 @@ fn not_summable(x: u32, y: u32) -> RenderError {
     RenderError::NonFinite(NonFinitePixel { x, y, xyz: glam::Vec3::NAN })
 }
 
-/// Prints a line of progress with the time left every `every` until `finished`.
+/// Prints a line of progress with the time left after the first [`FIRST_PROGRESS_LOG`] (so that
+/// even a short part's log says how long it expects to take), then every `every`, until
+/// `finished`.
 fn log_progress(progress: &ProgressBar, every: Duration, finished: &AtomicBool, start: Instant) {
-    let mut last = Instant::now();
+    let mut next = FIRST_PROGRESS_LOG.min(every);
     while !finished.load(Ordering::SeqCst) {
         std::thread::sleep(Duration::from_millis(100));
-        if last.elapsed() < every {
+        if start.elapsed() < next {
             continue;
         }
-        last = Instant::now();
+        next = start.elapsed() + every;
         let (done, total) = (progress.position(), progress.length().unwrap_or(0).max(1));
         let elapsed = start.elapsed().as_secs_f64();
         let left = if done > 0 { elapsed * (total - done.min(total)) as f64 / done as f64 } else { f64::NAN };

@@ -233,3 +233,33 @@ fn sigint_stops_a_render_at_a_block_boundary_and_keeps_its_samples() {
     assert!((1..1_000_000).contains(&count), "{samples}");
     assert!(!out.exists());
 }
+
+/// A batch render (no terminal: tests pipe stderr) logs its progress with the time left after
+/// its first second, so that even a short part's log says how long it expects to take.
+#[test]
+fn a_part_without_a_terminal_logs_its_progress_and_time_left() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("part.exr");
+    // About 2–4 s on one thread of the machines this runs on.
+    let args = [
+        "render",
+        SCENE,
+        "--width",
+        "400",
+        "--height",
+        "225",
+        "--spp",
+        "16",
+        "--samples",
+        "0..16",
+        "--threads",
+        "1",
+        "-o",
+    ];
+    let output = prisma(&[&args[..], &[out.to_str().unwrap()]].concat());
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    let line =
+        stderr.lines().find(|line| line.starts_with("progress: ")).unwrap_or_else(|| panic!("{stderr}"));
+    assert!(line.contains(" elapsed, about 0:0") && line.ends_with(" left"), "{line}");
+}
