@@ -3,8 +3,8 @@
 //!
 //! Planes are tested first, four at a time (a scene has a handful), so that their hit bounds
 //! the BVH traversal; then the BVH over spheres, quads and triangles. A scene of at most
-//! [`FEW_SPHERES`] spheres and nothing else finite (the lab and validation scenes) skips both
-//! the packets and the BVH: its spheres, and up to [`FEW_PLANES`] planes, are tested one after
+//! `FEW_SPHERES` (4) spheres and nothing else finite (the lab and validation scenes) skips both
+//! the packets and the BVH: its spheres, and up to `FEW_PLANES` (2) planes, are tested one after
 //! another, which finds the same hits for a third of the instructions. Each ray is prepared once
 //! (watertight shear for triangles and quads, inverse direction for the boxes).
 //!
