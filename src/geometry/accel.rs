@@ -5,7 +5,7 @@
 //! the BVH traversal; then the BVH over spheres, quads and triangles. A scene of at most
 //! `FEW_SPHERES` (4) spheres and nothing else finite (the lab and validation scenes) skips both
 //! the packets and the BVH: its spheres, and up to `FEW_PLANES` (2) planes, are tested one after
-//! another, which finds the same hits for a third of the instructions. Each ray is prepared once
+//! another, which finds the same hits for about half the instructions. Each ray is prepared once
 //! (watertight shear for triangles and quads, inverse direction for the boxes).
 //!
 //! The finite shapes are copied into the BVH's leaves as `Packet`s of four (a quad as its two
