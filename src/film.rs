@@ -10,6 +10,7 @@
 use glam::Vec3;
 
 use crate::fixed::FixedSum;
+use crate::geometry::huge_pages::filled_on_huge_pages;
 use crate::integrator::Beam;
 use crate::part::PixelWindow;
 use crate::spectrum::color::xyz_to_linear_srgb;
@@ -223,8 +224,8 @@ impl WindowSums {
         Self {
             window,
             layout,
-            camera: vec![FixedSum::ZERO; values],
-            light: if light { vec![FixedSum::ZERO; values] } else { Vec::new() },
+            camera: filled_on_huge_pages(FixedSum::ZERO, values),
+            light: if light { filled_on_huge_pages(FixedSum::ZERO, values) } else { Vec::new() },
         }
     }
 

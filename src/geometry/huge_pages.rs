@@ -26,6 +26,19 @@ pub(crate) fn on_huge_pages<T: Copy>(items: Vec<T>) -> Vec<T> {
     moved
 }
 
+/// `len` copies of `value` in an allocation the kernel has been asked to back with huge pages
+/// (as [`on_huge_pages`]): for large arrays written all over, such as a render's per-pixel
+/// sums, whose 4 KiB pages each cost a fault when first touched.
+pub(crate) fn filled_on_huge_pages<T: Copy>(value: T, len: usize) -> Vec<T> {
+    let mut items: Vec<T> = Vec::with_capacity(len);
+    let bytes = std::mem::size_of::<T>() * len;
+    if cfg!(target_os = "linux") && bytes >= MIN_BYTES {
+        advise(items.as_mut_ptr().cast(), bytes);
+    }
+    items.resize(len, value);
+    items
+}
+
 /// Asks for huge pages on the whole 2 MiB pages inside `bytes` bytes from `start`.
 #[cfg(target_os = "linux")]
 fn advise(start: *mut u8, bytes: usize) {

@@ -39,7 +39,7 @@
 pub mod aabb;
 pub mod accel;
 pub mod bvh;
-mod huge_pages;
+pub(crate) mod huge_pages;
 pub mod mesh;
 pub mod offset;
 mod packet;
