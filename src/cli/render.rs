@@ -296,14 +296,17 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     drop(stops);
     let stats = rendered.stats;
 
-    let (mut sums, mut done) = (rendered.sums.clone(), rendered.samples.clone());
+    let interrupted = rendered.interrupted;
+    // Moved, not copied: the sums of a frame are tens of MB.
+    let (mut sums, mut done) = (rendered.sums, rendered.samples);
     if let Some(prior) = &prior {
+        let (new_sums, new_samples) = (sums, done);
         sums = WindowSums::new(window, layout, light_paths_per_pass > 0);
-        for part in [&prior.sums, &rendered.sums] {
+        for part in [&prior.sums, &new_sums] {
             sums.add(part)
                 .map_err(|e| input(anyhow::Error::from(e).context(args.scene.display().to_string())))?;
         }
-        done = prior.header.samples.union(&rendered.samples);
+        done = prior.header.samples.union(&new_samples);
         header.wall_seconds = prior.header.wall_seconds;
         header.threads = prior.header.threads;
         header.parts = prior.header.parts + 1;
@@ -319,7 +322,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let film = sums.film(done.len(), light_paths_per_pass, (width, height));
     film.check_finite().map_err(|e| render_error(RenderError::NonFinite(e), &args.scene))?;
 
-    if rendered.interrupted {
+    if interrupted {
         let partial = partial_path(&destinations.exr);
         let mut outputs = Outputs::new();
         outputs
