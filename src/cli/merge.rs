@@ -73,8 +73,9 @@ pub fn run(args: &MergeArgs) -> Result<(), CliError> {
 }
 
 /// Asks the allocator to keep the memory of one part for the next instead of returning it to
-/// the kernel: a part's decoded channels (tens of MB) are above glibc's largest mmap threshold,
-/// so each was a fresh mapping whose every page faulted in again, a fifth of a merge's time.
+/// the kernel: a part's decoded channels (dozens of buffers of 0.7 MB and more, above glibc's
+/// initial mmap threshold of 128 KiB) were returned when freed and the next part's faulted in
+/// again page by page; keeping them cut the showcase merge's system time from 0.45 to 0.16 s.
 fn keep_freed_memory() {
     #[cfg(all(target_os = "linux", target_env = "gnu"))]
     // SAFETY: mallopt only changes glibc's allocation policy; it is called before any of the

@@ -1,5 +1,6 @@
-//! Large read-mostly arrays (BVH nodes, leaf packets) placed on 2 MiB pages where the system
-//! allows it.
+//! Large arrays placed on 2 MiB pages where the system allows it: the BVH's nodes and leaf
+//! packets (read-mostly, for the TLB), and a render's per-pixel sums (`crate::film`, written
+//! all over, for fewer page faults).
 //!
 //! Incoherent rays jump across the whole BVH, so with 4 KiB pages nearly every node and leaf
 //! they touch also misses the TLB: on a 1M-triangle mesh (about 60 MB of nodes and packets),
