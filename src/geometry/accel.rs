@@ -4,8 +4,8 @@
 //! Planes are tested first, four at a time (a scene has a handful), so that their hit bounds
 //! the BVH traversal; then the BVH over spheres, quads and triangles. A scene of at most
 //! `FEW_SPHERES` (4) spheres and nothing else finite (the lab and validation scenes) skips both
-//! the packets and the BVH: its spheres, and up to `FEW_PLANES` (2) planes, are tested one after
-//! another, which finds the same hits for about half the instructions. Each ray is prepared once
+//! the packets and the BVH: its spheres are tested one after another, which finds the same hits
+//! for about half the instructions; so are the planes of any scene with at most `FEW_PLANES` (2). Each ray is prepared once
 //! (watertight shear for triangles and quads, inverse direction for the boxes).
 //!
 //! The finite shapes are copied into the BVH's leaves as `Packet`s of four (a quad as its two
@@ -28,8 +28,8 @@ use super::{Hit, Mesh, Plane, Ray, Shape, Sphere};
 
 /// At most this many spheres (and no other finite shape) are tested one by one.
 const FEW_SPHERES: usize = 4;
-/// With [`FEW_SPHERES`], at most this many planes are tested one by one too (more go four at a
-/// time, as the packets test them: cheaper for the five planes of a TP6 box).
+/// At most this many infinite planes are tested one by one (more go four at a time, as the
+/// plane packets test them: cheaper for the five planes of a TP6 box).
 const FEW_PLANES: usize = 2;
 
 /// The nearest candidate found so far, before its hit record is built.
@@ -62,7 +62,8 @@ pub struct Geometry {
     /// another, in the order given, without the packets and the BVH, whose bookkeeping cost
     /// more than the tests (17 % of the instructions of the ball-lens caustic benchmark).
     few_spheres: Option<Vec<(u32, Sphere)>>,
-    /// The infinite planes one by one, in order (for the `few_spheres` path).
+    /// The infinite planes one by one, in order (tested so when there are at most
+    /// [`FEW_PLANES`]).
     plane_list: Vec<(u32, Plane)>,
 }
 
@@ -152,19 +153,9 @@ impl Geometry {
 
     /// The nearest hit with t in (0, `t_max`).
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
+        let (nearest_plane, t_limit) = self.nearest_plane(ray, t_max);
         if let Some(spheres) = &self.few_spheres {
-            let (mut nearest, mut t_limit) = if self.plane_list.len() <= FEW_PLANES {
-                let (mut nearest, mut t_limit) = (None, t_max);
-                for (id, plane) in &self.plane_list {
-                    if let Some(hit) = plane.intersect(ray, t_limit, *id) {
-                        t_limit = hit.t;
-                        nearest = Some(hit);
-                    }
-                }
-                (nearest, t_limit)
-            } else {
-                self.nearest_plane(ray, t_max)
-            };
+            let (mut nearest, mut t_limit) = (nearest_plane, t_limit);
             for (id, sphere) in spheres {
                 if let Some(hit) = sphere.intersect(ray, t_limit, *id) {
                     t_limit = hit.t;
@@ -173,7 +164,6 @@ impl Geometry {
             }
             return nearest;
         }
-        let (nearest_plane, t_limit) = self.nearest_plane(ray, t_max);
         // Prepared on the first triangle packet: rays that meet only spheres never need it.
         let mut sheared: Option<ShearedRay> = None;
         let mut nearest: Option<Nearest> = None;
@@ -243,11 +233,21 @@ impl Geometry {
     }
 
     /// The nearest infinite plane hit with t in (0, `t_max`), and the distance the BVH search
-    /// must then beat (its t, or `t_max`).
+    /// must then beat (its t, or `t_max`): the first among equal distances, whether the planes
+    /// are few enough to be tested one by one or go four at a time.
     #[inline(always)]
     fn nearest_plane(&self, ray: &Ray, t_max: f32) -> (Option<Hit>, f32) {
         let mut nearest_plane: Option<Hit> = None;
         let mut t_limit = t_max;
+        if self.plane_list.len() <= FEW_PLANES {
+            for (id, plane) in &self.plane_list {
+                if let Some(hit) = plane.intersect(ray, t_limit, *id) {
+                    t_limit = hit.t;
+                    nearest_plane = Some(hit);
+                }
+            }
+            return (nearest_plane, t_limit);
+        }
         for packet in &self.planes {
             if let Some(lane) = packet.nearest(ray, t_limit) {
                 let (index, plane) = packet.plane(lane);
@@ -259,6 +259,16 @@ impl Geometry {
             }
         }
         (nearest_plane, t_limit)
+    }
+
+    /// True when an infinite plane is hit with t in (0, `t_max`).
+    #[inline(always)]
+    fn planes_occlude(&self, ray: &Ray, t_max: f32) -> bool {
+        if self.plane_list.len() <= FEW_PLANES {
+            self.plane_list.iter().any(|(_, plane)| plane.intersect(ray, t_max, 0).is_some())
+        } else {
+            self.planes.iter().any(|packet| packet.any(ray, t_max))
+        }
     }
 
     /// The leaf test of the nearest-hit search: the packets `first..first + count`, for hits
@@ -340,16 +350,11 @@ impl Geometry {
 
     /// True when anything is hit with t in (0, `t_max`) (shadow rays).
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
-        if let Some(spheres) = &self.few_spheres {
-            let by_plane = if self.plane_list.len() <= FEW_PLANES {
-                self.plane_list.iter().any(|(_, plane)| plane.intersect(ray, t_max, 0).is_some())
-            } else {
-                self.planes.iter().any(|packet| packet.any(ray, t_max))
-            };
-            return by_plane || spheres.iter().any(|(_, sphere)| sphere.intersect(ray, t_max, 0).is_some());
-        }
-        if self.planes.iter().any(|packet| packet.any(ray, t_max)) {
+        if self.planes_occlude(ray, t_max) {
             return true;
+        }
+        if let Some(spheres) = &self.few_spheres {
+            return spheres.iter().any(|(_, sphere)| sphere.intersect(ray, t_max, 0).is_some());
         }
         let mut sheared: Option<ShearedRay> = None;
         match self.single_leaf {
@@ -385,7 +390,7 @@ impl Geometry {
         }
         let by_planes = (0..count)
             .filter(|&lane| lanes & (1 << lane) != 0)
-            .filter(|&lane| self.planes.iter().any(|packet| packet.any(&rays[lane], t_max[lane])))
+            .filter(|&lane| self.planes_occlude(&rays[lane], t_max[lane]))
             .fold(0, |mask, lane| mask | 1 << lane);
         let mut sheared = [None; PACKET_RAYS];
         alone
@@ -571,35 +576,37 @@ mod tests {
 
     #[test]
     fn a_few_spheres_and_planes_are_tested_directly_with_the_same_hits() {
-        // Three planes and two overlapping spheres, as in the TP6 scenes (a single leaf of
-        // spheres: the direct path); forcing the packets instead must give the same hits, bit for bit, and so must a
-        // linear scan.
+        // One plane (tested alone) or three (as a packet) and two overlapping spheres, as in the
+        // TP6 scenes (the direct path); forcing the packets and the BVH for the spheres instead
+        // must give the same hits, bit for bit, and so must a linear scan.
         let mut rng = Rng::new(77);
-        let mut shapes: Vec<Shape> = (0..3)
-            .map(|_| {
-                Shape::Plane(Plane {
-                    point: rng.point_in(Vec3::splat(-40.0), Vec3::splat(40.0)),
-                    normal: rng.unit_vector(),
+        for planes in [1, 3] {
+            let mut shapes: Vec<Shape> = (0..planes)
+                .map(|_| {
+                    Shape::Plane(Plane {
+                        point: rng.point_in(Vec3::splat(-40.0), Vec3::splat(40.0)),
+                        normal: rng.unit_vector(),
+                    })
                 })
-            })
-            .collect();
-        for _ in 0..2 {
-            let center = rng.point_in(Vec3::splat(-10.0), Vec3::splat(10.0));
-            shapes.push(Shape::Sphere(Sphere { center, radius: rng.uniform(2.0, 15.0) }));
+                .collect();
+            for _ in 0..2 {
+                let center = rng.point_in(Vec3::splat(-10.0), Vec3::splat(10.0));
+                shapes.push(Shape::Sphere(Sphere { center, radius: rng.uniform(2.0, 15.0) }));
+            }
+            let direct = Geometry::build(shapes, Vec::new());
+            assert!(direct.few_spheres.is_some(), "a handful of spheres takes the direct path");
+            let packets = Geometry { few_spheres: None, ..direct.clone() };
+            for i in 0..10_000 {
+                let ray = random_ray(&mut rng);
+                let t_max = if i % 2 == 0 { f32::INFINITY } else { rng.uniform(1.0, 100.0) };
+                let hit = direct.intersect(&ray, t_max);
+                assert_eq!(hit, packets.intersect(&ray, t_max), "ray {ray:?}");
+                assert_eq!(hit, linear_scan(&direct, &ray, t_max), "ray {ray:?}");
+                assert_eq!(direct.occluded(&ray, t_max), hit.is_some(), "ray {ray:?}");
+                assert_eq!(packets.occluded(&ray, t_max), hit.is_some(), "ray {ray:?}");
+            }
         }
-        let direct = Geometry::build(shapes, Vec::new());
-        assert!(direct.few_spheres.is_some(), "a handful of spheres takes the direct path");
-        let packets = Geometry { few_spheres: None, ..direct.clone() };
-        for i in 0..20_000 {
-            let ray = random_ray(&mut rng);
-            let t_max = if i % 2 == 0 { f32::INFINITY } else { rng.uniform(1.0, 100.0) };
-            let hit = direct.intersect(&ray, t_max);
-            assert_eq!(hit, packets.intersect(&ray, t_max), "ray {ray:?}");
-            assert_eq!(hit, linear_scan(&direct, &ray, t_max), "ray {ray:?}");
-            assert_eq!(direct.occluded(&ray, t_max), hit.is_some(), "ray {ray:?}");
-            assert_eq!(packets.occluded(&ray, t_max), hit.is_some(), "ray {ray:?}");
-        }
-        // Anything but spheres in the leaf keeps the packets.
+        // Any finite shape other than a sphere keeps the packets and the BVH.
         assert!(random_soup(&mut rng, 6).few_spheres.is_none());
     }
 
