@@ -40,11 +40,15 @@ use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 
 /// Stack of each render thread: Whitted recursion runs on it, one frame per bounce.
 const THREAD_STACK_BYTES: usize = 64 << 20;
-/// Light paths per block: the unit of parallel work of the light tracer, and of its sample
-/// sequences (a power of two, so that a block's paths are a whole Sobol net).
-pub const LIGHT_PATH_BLOCK: u64 = 4096;
-/// Blocks traced before their splats are summed: bounds the memory the splats take.
-const BLOCKS_PER_WAVE: u64 = 64;
+/// Light paths per block: the unit of parallel work of the light tracer (a power of two, so that
+/// a block's paths are a whole Sobol net of the render's one sequence). Small enough that a
+/// pass of a small render splits evenly over the threads: with 4096, the 12,288 paths of a pass
+/// of the caustic bench made 3 blocks on 2 threads, and its 1- and 2-spp renders took 1.27× the
+/// time they take with 1024 (`validation/bench/caustics_bench.py` scene, best of 7).
+pub const LIGHT_PATH_BLOCK: u64 = 1024;
+/// Blocks traced before their splats are summed (262,144 light paths): bounds the memory the
+/// splats take.
+const BLOCKS_PER_WAVE: u64 = 256;
 /// Mixed into the seed of the light paths' sample sequences, so that they are independent of
 /// the camera samples'.
 const LIGHT_PATH_SEED_SALT: u64 = 0x6c69_6768_7470_6174;
