@@ -22,6 +22,7 @@
 //! The light sums divided by the number of light paths are added to the camera means.
 
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
 use indicatif::{ProgressBar, ProgressStyle};
@@ -46,9 +47,6 @@ const THREAD_STACK_BYTES: usize = 64 << 20;
 /// of the caustic bench made 3 blocks on 2 threads, and its 1- and 2-spp renders took 1.27× the
 /// time they take with 1024 (`validation/bench/caustics_bench.py` scene, best of 7).
 pub const LIGHT_PATH_BLOCK: u64 = 1024;
-/// Blocks traced before their splats are summed (262,144 light paths): bounds the memory the
-/// splats take.
-const BLOCKS_PER_WAVE: u64 = 256;
 /// Mixed into the seed of the light paths' sample sequences, so that they are independent of
 /// the camera samples'.
 const LIGHT_PATH_SEED_SALT: u64 = 0x6c69_6768_7470_6174;
@@ -402,6 +400,11 @@ fn camera_block<B: Beam>(
 
 /// Traces light paths `paths` (numbers over the whole render) and adds their splats in the
 /// window to `sums`: the rays cast.
+///
+/// Each block's splats are added by the thread that traced it, as soon as it is done, under a
+/// lock: exact sums do not depend on the order of their terms, so the image is the same bits
+/// whatever the schedule, and no thread waits for a serial summation between batches of
+/// blocks. A failure names the pixel of the lowest-numbered block that had one.
 fn light_block(
     pool: &rayon::ThreadPool,
     tracer: &LightTracer,
@@ -414,33 +417,42 @@ fn light_block(
     let layout = *sums.layout();
     let first_block = paths.start / LIGHT_PATH_BLOCK;
     let end_block = paths.end.div_ceil(LIGHT_PATH_BLOCK);
-    let mut rays = 0;
-    for wave_start in (first_block..end_block).step_by(BLOCKS_PER_WAVE as usize) {
-        let wave: Vec<u64> = (wave_start..end_block.min(wave_start + BLOCKS_PER_WAVE)).collect();
-        let traced: Vec<(Splats, TraceStats)> = pool.install(|| {
-            wave.par_iter()
-                .with_max_len(1)
-                .map(|&block| {
-                    let first = paths.start.max(block * LIGHT_PATH_BLOCK);
-                    let end = paths.end.min((block + 1) * LIGHT_PATH_BLOCK);
-                    let traced = if layout.stokes {
-                        trace_block::<Stokes>(tracer, job, &layout, first..end)
-                    } else {
-                        trace_block::<SampledSpectrum>(tracer, job, &layout, first..end)
-                    };
-                    progress.inc(end - first);
-                    traced
-                })
-                .collect()
-        });
-        for (splats, stats) in &traced {
-            if let Some((x, y)) = sums.add_splats(splats, display_width) {
-                return Err(not_summable(x, y));
+    let shared = Mutex::new(LightSums { sums, rays: 0, failed: None });
+    let blocks: Vec<u64> = (first_block..end_block).collect();
+    pool.install(|| {
+        blocks.par_iter().with_max_len(1).for_each(|&block| {
+            let first = paths.start.max(block * LIGHT_PATH_BLOCK);
+            let end = paths.end.min((block + 1) * LIGHT_PATH_BLOCK);
+            let (splats, stats) = if layout.stokes {
+                trace_block::<Stokes>(tracer, job, &layout, first..end)
+            } else {
+                trace_block::<SampledSpectrum>(tracer, job, &layout, first..end)
+            };
+            // A panic elsewhere poisons the lock; the sums it guards are still whole.
+            let mut shared = shared.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+            if let Some(pixel) = shared.sums.add_splats(&splats, display_width) {
+                if shared.failed.is_none_or(|(earliest, _)| block < earliest) {
+                    shared.failed = Some((block, pixel));
+                }
             }
-            rays += stats.rays;
-        }
+            shared.rays += stats.rays;
+            drop(shared);
+            progress.inc(end - first);
+        });
+    });
+    let shared = shared.into_inner().unwrap_or_else(std::sync::PoisonError::into_inner);
+    match shared.failed {
+        Some((_, (x, y))) => Err(not_summable(x, y)),
+        None => Ok(shared.rays),
     }
-    Ok(rays)
+}
+
+/// What the light tracer's blocks add to, shared between the render threads.
+struct LightSums<'a> {
+    sums: &'a mut WindowSums,
+    rays: u64,
+    /// The first block (by number) whose splats could not be summed, and the pixel.
+    failed: Option<(u64, (u32, u32))>,
 }
 
 /// Traces the light paths `paths` (all inside one block): their splats in path order, and
