@@ -52,14 +52,14 @@ pub fn spawn_origin(point: Vec3, normal: Vec3, dir: Vec3) -> Vec3 {
     let distance = normal.abs().dot(point.abs() * gamma(POINT_ROUNDINGS));
     let pushed = point + distance * side;
     Vec3::new(
-        clear_of_subnormals(round_away(pushed.x, side.x), side.x),
-        clear_of_subnormals(round_away(pushed.y, side.y), side.y),
-        clear_of_subnormals(round_away(pushed.z, side.z), side.z),
+        push_coordinate(pushed.x, side.x),
+        push_coordinate(pushed.y, side.y),
+        push_coordinate(pushed.z, side.z),
     )
 }
 
-/// Where a pushed coordinate that would be subnormal goes instead, to the side of the push:
-/// 2⁻⁴⁰ ≈ 9.1·10⁻¹³ scene units.
+/// Where a pushed coordinate that would be subnormal or zero goes instead, to the side of the
+/// push: 2⁻⁴⁰ ≈ 9.1·10⁻¹³ scene units.
 ///
 /// A coordinate that is exactly 0 (a point on a plane through the origin, reprojected onto it)
 /// has a zero error bound, and one float away from 0 is the smallest subnormal, 1.4·10⁻⁴⁵.
@@ -72,36 +72,31 @@ pub fn spawn_origin(point: Vec3, normal: Vec3, dir: Vec3) -> Vec3 {
 /// smaller than the push at a coordinate of 1.
 pub const MIN_PUSHED_COORDINATE: f32 = 1.0 / (1u64 << 40) as f32;
 
-/// `value`, or [`MIN_PUSHED_COORDINATE`] with the sign of `direction` when `value` is subnormal
-/// and `direction` is not zero: farther to that side than any subnormal, so still a push.
-#[inline]
-fn clear_of_subnormals(value: f32, direction: f32) -> f32 {
-    if value.is_subnormal() && direction != 0.0 {
+/// `value` moved to the next float in the direction of the sign of `direction` (unchanged when
+/// `direction` is zero), so that the push survives the rounding of `point + distance·side`;
+/// where that next float is subnormal or zero (from ±0 and the smallest normals), to
+/// ±[`MIN_PUSHED_COORDINATE`] instead, farther to the same side.
+///
+/// For finite `value` the step is `next_up` / `next_down`, written on the bits without branches
+/// (the standard functions also handle NaN and infinities, which a hit point never is): away
+/// from zero the magnitude grows by one unit in the last place, towards zero it shrinks by one.
+#[inline(always)]
+fn push_coordinate(value: f32, direction: f32) -> f32 {
+    debug_assert!(value.is_finite(), "pushing a non-finite coordinate {value}");
+    let bits = value.to_bits();
+    // Same sign bits (value ≠ 0): the magnitude grows.
+    let away_from_zero = (bits ^ direction.to_bits()) >> 31 == 0;
+    let stepped = f32::from_bits(if away_from_zero { bits.wrapping_add(1) } else { bits.wrapping_sub(1) });
+    let pushed = if value == 0.0 || stepped.abs() < f32::MIN_POSITIVE {
         MIN_PUSHED_COORDINATE.copysign(direction)
     } else {
-        value
-    }
-}
-
-/// `value` moved to the next float in the direction of the sign of `direction` (unchanged when
-/// `direction` is zero), so that the push survives the rounding of `point + distance·side`.
-///
-/// For finite `value` this is `next_up` / `next_down`, written on the bits with fewer branches
-/// (the standard functions also handle NaN and infinities, which a hit point never is): away
-/// from zero the magnitude grows by one unit in the last place, towards zero it shrinks by one,
-/// and ±0 becomes the smallest subnormal of the direction's sign.
-#[inline]
-fn round_away(value: f32, direction: f32) -> f32 {
-    debug_assert!(value.is_finite(), "pushing a non-finite coordinate {value}");
+        stepped
+    };
     if direction == 0.0 || direction.is_nan() {
-        return value;
+        value
+    } else {
+        pushed
     }
-    let bits = value.to_bits();
-    if bits & 0x7fff_ffff == 0 {
-        return f32::from_bits(1).copysign(direction);
-    }
-    let away_from_zero = (value > 0.0) == (direction > 0.0);
-    f32::from_bits(if away_from_zero { bits + 1 } else { bits - 1 })
 }
 
 #[cfg(test)]
@@ -144,18 +139,29 @@ mod tests {
     }
 
     #[test]
-    fn round_away_is_next_up_and_next_down() {
+    fn push_coordinate_is_next_up_and_next_down() {
         // Zeros of both signs, subnormals, the normal range, ±MAX (next_up(MAX) = ∞), values
-        // around powers of two (where the spacing changes), all against the standard library.
+        // around powers of two (where the spacing changes), all against the standard library;
+        // where the next float is subnormal or zero, ±MIN_PUSHED_COORDINATE instead.
         let mut values = vec![0.0, -0.0, f32::from_bits(1), -f32::from_bits(1), f32::MIN_POSITIVE, f32::MAX];
         values.extend([-f32::MIN_POSITIVE, -f32::MAX, 1.0, -1.0, 1.0f32.next_down(), 2.0, 1000.0, -0.1]);
+        values.extend([f32::MIN_POSITIVE.next_up(), -f32::MIN_POSITIVE.next_up(), MIN_PUSHED_COORDINATE]);
         values.extend((0..2000u32).map(|i| f32::from_bits(i.wrapping_mul(2_147_483).wrapping_add(12_345))));
         values.retain(|v| v.is_finite());
+        let expected = |next: f32, direction: f32| {
+            if next.abs() < f32::MIN_POSITIVE {
+                MIN_PUSHED_COORDINATE.copysign(direction)
+            } else {
+                next
+            }
+        };
         for value in values {
-            assert_eq!(round_away(value, 1.0).to_bits(), value.next_up().to_bits(), "up from {value:e}");
-            assert_eq!(round_away(value, -2.0).to_bits(), value.next_down().to_bits(), "down from {value:e}");
-            assert_eq!(round_away(value, 0.0).to_bits(), value.to_bits());
-            assert_eq!(round_away(value, -0.0).to_bits(), value.to_bits());
+            let up = push_coordinate(value, 1.0);
+            assert_eq!(up.to_bits(), expected(value.next_up(), 1.0).to_bits(), "up from {value:e}");
+            let down = push_coordinate(value, -2.0);
+            assert_eq!(down.to_bits(), expected(value.next_down(), -2.0).to_bits(), "down from {value:e}");
+            assert_eq!(push_coordinate(value, 0.0).to_bits(), value.to_bits());
+            assert_eq!(push_coordinate(value, -0.0).to_bits(), value.to_bits());
         }
     }
 
@@ -173,7 +179,7 @@ mod tests {
     fn pushed_coordinates_are_never_subnormal() {
         // Points on the planes x = 0 and y = 0 and at tiny coordinates (zero, subnormal, normal
         // below 2⁻⁴⁰), pushed both ways along each axis and along a slanted normal: every moved
-        // coordinate is zero or a normal float (never subnormal), on the side of the direction.
+        // coordinate is a normal float (never subnormal, never zero), on the side of the direction.
         let tiny = [0.0, -0.0, f32::from_bits(1), 1e-30, -1e-39, 3e-13];
         let normals = [Vec3::X, Vec3::Y, Vec3::Z, Vec3::new(0.6, 0.8, 0.0)];
         for &a in &tiny {
@@ -184,7 +190,7 @@ mod tests {
                         let pushed = spawn_origin(point, normal, dir);
                         for (p, q, n) in [(pushed.x, point.x, normal.x), (pushed.y, point.y, normal.y)] {
                             if n != 0.0 {
-                                assert!(!p.is_subnormal(), "{p:e} from {point:?} along {dir:?}");
+                                assert!(p.is_normal(), "{p:e} from {point:?} along {dir:?}");
                                 assert!((p - q) * dir.dot(normal).signum() * n.signum() > 0.0);
                             } else {
                                 assert_eq!(p, q); // (-0 may become +0: -0 + 0·side)
