@@ -37,14 +37,23 @@ struct Target {
     radius: f32,
 }
 
-/// A cone of directions: those within the half-angle of cosine `cos_half` of the unit `axis`.
+/// A cone of directions: those within the half-angle of cosine `cos_half` of the unit `axis`,
+/// with a frame (`tangent`, `bitangent`) across the axis for sampling it.
 #[derive(Debug, Clone, Copy)]
 pub struct Cone {
     axis: Vec3,
     cos_half: f32,
+    tangent: Vec3,
+    bitangent: Vec3,
 }
 
 impl Cone {
+    /// The cone around the unit `axis` whose half-angle has cosine `cos_half`.
+    fn new(axis: Vec3, cos_half: f32) -> Self {
+        let tangent = any_perpendicular(axis);
+        Self { axis, cos_half, tangent, bitangent: axis.cross(tangent) }
+    }
+
     /// The cone of directions from `from` that can meet `target`, or `None` when `from` is
     /// inside its sphere (every direction can).
     fn toward(from: Vec3, target: &Target) -> Option<Cone> {
@@ -57,7 +66,7 @@ impl Cone {
         let distance = distance_sq.sqrt();
         // cos of the half-angle asin(r/d), made a little wider against rounding.
         let cos_half = ((distance_sq - radius_sq).sqrt() / distance * 0.99999).min(1.0);
-        Some(Cone { axis: offset / distance, cos_half })
+        Some(Cone::new(offset / distance, cos_half))
     }
 
     /// Solid angle, sr.
@@ -75,9 +84,7 @@ impl Cone {
         let cos_theta = 1.0 - u.0 * (1.0 - self.cos_half);
         let sin_theta = (1.0 - cos_theta * cos_theta).max(0.0).sqrt();
         let (sin_phi, cos_phi) = (TAU * u.1).sin_cos();
-        let tangent = any_perpendicular(self.axis);
-        let bitangent = self.axis.cross(tangent);
-        (cos_theta * self.axis + sin_theta * (cos_phi * tangent + sin_phi * bitangent)).normalize()
+        (cos_theta * self.axis + sin_theta * (cos_phi * self.tangent + sin_phi * self.bitangent)).normalize()
     }
 }
 
@@ -239,7 +246,7 @@ impl Emission {
             Light::Spot(spot) => {
                 let (dir, pdf) = match &chosen.directions {
                     Directions::Own => {
-                        let own = Cone { axis: spot.axis, cos_half: spot.cos_cutoff() };
+                        let own = Cone::new(spot.axis, spot.cos_cutoff());
                         (own.sample(u_dir), 1.0 / own.solid_angle())
                     }
                     Directions::Cones { cones, total } => sample_cones(cones, *total, next, u_dir),
