@@ -7,7 +7,8 @@
 //! 1. [`spawn_origin`] pushes the point off the surface, along the geometric normal and to the
 //!    side the new ray travels to, by a bound on the rounding of the point's own coordinates
 //!    (γ(2)·|p| per coordinate, projected on the normal), then rounds every coordinate one more
-//!    float away from the surface so that the rounding of the addition cannot undo the push.
+//!    float away from the surface so that the rounding of the addition cannot undo the push
+//!    (to ±2⁻⁴⁰ where that float would be subnormal or zero: [`MIN_PUSHED_COORDINATE`]).
 //!    This is the offset of Pharr, Jakob, Humphreys, *Physically Based Rendering*, 3rd ed.
 //!    (2016), §3.9.5 "Robust spawned ray origins", with an error bound that depends on the
 //!    point alone (the signature carries no per-hit error). As in Wächter & Binder, "A Fast and

@@ -37,21 +37,26 @@ struct Target {
     radius: f32,
 }
 
-/// A cone of directions: those within the half-angle of cosine `cos_half` of the unit `axis`,
-/// with a frame (`tangent`, `bitangent`) across the axis for sampling it.
+/// A cone of directions: those within the half-angle of cosine `cos_half` of the unit `axis`.
 #[derive(Debug, Clone, Copy)]
 pub struct Cone {
     axis: Vec3,
     cos_half: f32,
-    tangent: Vec3,
-    bitangent: Vec3,
+    /// A frame (tangent, bitangent) across the axis for sampling, made once for the cones a
+    /// light keeps for the whole render ([`Self::framed`]); cones made per light path (a quad
+    /// light's) leave it to [`Self::sample`], for the one cone sampled.
+    frame: Option<(Vec3, Vec3)>,
 }
 
 impl Cone {
     /// The cone around the unit `axis` whose half-angle has cosine `cos_half`.
     fn new(axis: Vec3, cos_half: f32) -> Self {
-        let tangent = any_perpendicular(axis);
-        Self { axis, cos_half, tangent, bitangent: axis.cross(tangent) }
+        Self { axis, cos_half, frame: None }
+    }
+
+    /// The same cone with its sampling frame made now.
+    fn framed(self) -> Self {
+        Self { frame: Some(frame_across(self.axis)), ..self }
     }
 
     /// The cone of directions from `from` that can meet `target`, or `None` when `from` is
@@ -84,8 +89,15 @@ impl Cone {
         let cos_theta = 1.0 - u.0 * (1.0 - self.cos_half);
         let sin_theta = (1.0 - cos_theta * cos_theta).max(0.0).sqrt();
         let (sin_phi, cos_phi) = (TAU * u.1).sin_cos();
-        (cos_theta * self.axis + sin_theta * (cos_phi * self.tangent + sin_phi * self.bitangent)).normalize()
+        let (tangent, bitangent) = self.frame.unwrap_or_else(|| frame_across(self.axis));
+        (cos_theta * self.axis + sin_theta * (cos_phi * tangent + sin_phi * bitangent)).normalize()
     }
+}
+
+/// A tangent and a bitangent across the unit `axis`.
+fn frame_across(axis: Vec3) -> (Vec3, Vec3) {
+    let tangent = any_perpendicular(axis);
+    (tangent, axis.cross(tangent))
 }
 
 /// The union of `cones` sampled as a mixture in proportion to their solid angles (`total` is
@@ -341,7 +353,7 @@ fn aimed(cones: impl Iterator<Item = Option<Cone>>, own: f32, spot: Option<&Spot
                 continue;
             }
         }
-        kept.push(cone);
+        kept.push(cone.framed());
     }
     let total: f32 = kept.iter().map(Cone::solid_angle).sum();
     if kept.is_empty() {
