@@ -4,9 +4,11 @@
 cases.toml, whose settings and checks it reuses by import).
 
 Mitsuba's side: `ptracer` (max_depth = -1: unlimited, Russian roulette from depth 64, unbiased),
-polarised variants so that Fresnel acts on Stokes vectors as in prisma's default render:
-`llvm_ad_mono_polarized` with every spectrum and n(λ) taken at the case's wavelength, or
-`llvm_ad_spectral_polarized` for the non-dispersive spectral case. The translation is
+unpolarised variants, as the cases are (caustic_cases.toml says why): `llvm_ad_mono` with every
+spectrum and n(λ) taken at the case's wavelength, or `llvm_ad_spectral` for the non-dispersive
+spectral case. Each reference is the mean of 64 independent passes, and <case>_seed<s>_var.exr
+holds the per-pixel variance of that mean from the passes (as render_references.py's variance
+files), which `prisma validate` uses as the reference's noise. The translation is
 translate.py's, plus the lights it does not know:
 
   beam light   rectangle with a black diffuse BSDF and a `directionalarea` emitter whose
@@ -49,19 +51,19 @@ SEEDS = (1, 2)
 CASES_FILE = "caustic_cases.toml"
 
 # Light paths: ptracer traces spp × width × height paths per render: 4096 spp × 12 288 pixels =
-# 50 M paths per reference, 30–50× what prisma traces per render in CI. Passes of at most 512 spp
-# for the ball: ptracer adds its splats into a float32 image block, and where millions of splats of
-# nearly equal value land in one pixel (the ball's focus) the rounding of those additions no
-# longer averages out: one pass of 4096 spp left the 9 focus pixels 1 % low (measured against
-# prisma's f64 sums and against passes of 256 spp), passes of 512 spp agree. The prism's band
-# spreads its light over thousands of pixels and is rendered in one pass.
+# 50 M paths per reference, 30–50× what prisma traces per render in CI, in 64 passes of 64 spp
+# (the per-pixel variance of the mean has 63 degrees of freedom). Passes must stay small for the
+# ball: ptracer adds its splats into a float32 image block, and where millions of splats of nearly
+# equal value land in one pixel (the ball's focus) the rounding of those additions no longer
+# averages out: one pass of 4096 spp left the 9 focus pixels 1 % low (measured against prisma's
+# f64 sums and against passes of 256 spp); passes of 512 spp and fewer agree.
 PTRACER = {"type": "ptracer", "max_depth": -1, "rr_depth": 64, "hide_emitters": False}
 MITSUBA_SETTINGS = {
-    **{f"caustic_sphere_{nm}": dict(variant="llvm_ad_mono", spp_per_pass=512, passes=8)
+    **{f"caustic_sphere_{nm}": dict(variant="llvm_ad_mono", spp_per_pass=64, passes=64)
        for nm in (450, 550, 650)},
-    **{f"caustic_prism_{nm}": dict(variant="llvm_ad_mono", spp_per_pass=4096, passes=1)
+    **{f"caustic_prism_{nm}": dict(variant="llvm_ad_mono", spp_per_pass=64, passes=64)
        for nm in (450, 550, 650)},
-    "caustic_sphere_spectral": dict(variant="llvm_ad_spectral", spp_per_pass=512, passes=8),
+    "caustic_sphere_spectral": dict(variant="llvm_ad_spectral", spp_per_pass=64, passes=64),
 }
 
 BLACK = {"type": "diffuse", "reflectance": {"type": "uniform", "value": 0.0}}
@@ -185,14 +187,17 @@ def render_case(case, settings, out_dir, prisma, quick, command):
         if channels != case["channels"]:
             raise SystemExit(f"{name}: Mitsuba wrote channels {channels}, {CASES_FILE} compares {case['channels']}")
         mean *= fix
-        # The standard error of the mean from the passes (none with one pass: zeros).
-        stderr = fix * np.sqrt(np.nan_to_num(variance, nan=0.0))
+        # The variance of the mean from the passes, in the units of the reference squared.
+        variance *= fix * fix
+        if not np.all(np.isfinite(variance)):
+            raise SystemExit(f"{name}: the variance needs at least two passes")
         path = out_dir / f"{name}_seed{seed}.exr"
+        var_path = out_dir / f"{name}_seed{seed}_var.exr"
         translate.write_exr(path, mean, channels)
-        translate.write_exr(out_dir / f"{name}_seed{seed}_stderr.exr", stderr, channels)
+        translate.write_exr(var_path, variance, channels)
         renders.append({
             "file": f"references/{path.name}",
-            "stderr_file": f"references/{name}_seed{seed}_stderr.exr",
+            "variance_file": f"references/{var_path.name}",
             "seed": seed,
             "pass_seeds": [translate.pass_seed(seed, k) for k in range(passes)],
             "wall_time_s": round(seconds, 2),
@@ -219,6 +224,8 @@ def render_case(case, settings, out_dir, prisma, quick, command):
         "spp_per_pass": spp_per_pass,
         "passes": passes,
         "light_paths_per_render": spp_per_pass * passes * width * height,
+        "variance_files": "per pixel and channel, the variance of the reference (a mean of `passes` passes): "
+                          "sum_k (x_k - mean)^2 / (passes (passes - 1))",
         "seeds": list(SEEDS),
         "pass_seed_rule": f"pass k of seed s uses mi.render(seed = s*{translate.PASS_SEED_STRIDE} + k)",
         "resolution": [width, height],

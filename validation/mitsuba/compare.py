@@ -8,8 +8,8 @@ resolution, `--wavelength` for monochromatic cases), then prints, per compared c
   - per-pixel relative differences (median and 95th percentile over pixels brighter than 1% of
     the channel's mean);
   - the fraction of pixels whose difference is within 3σ, σ² = σ²_prisma + σ²_Mitsuba, σ_prisma
-    from the spread of the K prisma renders and σ_Mitsuba from the references' *_stderr.exr
-    (estimated by render_references.py from its passes).
+    from the spread of the K prisma renders and σ_Mitsuba from the references' *_var.exr
+    (estimated by render_references.py and caustics.py from their passes).
 and writes a side-by-side PNG (Mitsuba | prisma | |difference| × 4) per case.
 
 Run: validation/.venv/bin/python validation/mitsuba/compare.py [CASE ...] [--spp 256] [--seeds 8]
@@ -64,8 +64,8 @@ def compare_case(case, spp, seeds, out_dir, prisma, references=None):
     """references: a directory holding the reference files instead of validation/references."""
     ref_paths = [references / pathlib.Path(r).name if references else VALIDATION / r for r in case["references"]]
     refs = [read_exr(p) for p in ref_paths]
-    stderr_paths = [p.with_name(p.stem + "_stderr.exr") for p in ref_paths]
-    stderrs = [read_exr(p) if p.exists() else None for p in stderr_paths]
+    variance_paths = [p.with_name(p.stem + "_var.exr") for p in ref_paths]
+    variances = [read_exr(p) if p.exists() else None for p in variance_paths]
     renders = prisma_renders(case, spp, seeds, out_dir, prisma)
     print(f"== {case['name']} ({spp} spp × {seeds} prisma seeds)")
     rows = []
@@ -75,8 +75,8 @@ def compare_case(case, spp, seeds, out_dir, prisma, references=None):
         stack = np.stack([r[prisma_channel(channel)] for r in renders])
         ours = stack.mean(axis=0)
         sigma_ours = stack.std(axis=0, ddof=1) / np.sqrt(seeds)
-        if all(s is not None for s in stderrs):
-            sigma_ref = 0.5 * np.sqrt(stderrs[0][channel] ** 2 + stderrs[1][channel] ** 2)
+        if all(v is not None for v in variances):
+            sigma_ref = 0.5 * np.sqrt(variances[0][channel] + variances[1][channel])
         else:  # two seeds only: |s1 - s2|/2 is a one-degree-of-freedom estimate
             sigma_ref = 0.5 * np.abs(refs[0][channel] - refs[1][channel])
         sigma = np.sqrt(sigma_ours**2 + sigma_ref**2)
