@@ -100,9 +100,16 @@ fn a_missing_receiver_cosine_is_caught() {
 /// lens's focus move with it.
 #[test]
 fn an_index_one_percent_too_high_moves_the_caustics() {
-    for name in ["newton_lines", "ball_lens_focus"] {
+    for name in ["newton_lines", "prism_band_edges", "ball_lens_focus"] {
         assert!(!passes(name, Some(Fault::IorScale(1.01))), "{name} did not catch the fault");
     }
+}
+
+/// The band edges are read to a few thousandths of a pixel of 10⁻⁴ units: an index 2 ppm too
+/// high at both faces moves them about 0.2 px, four times the threshold.
+#[test]
+fn an_index_two_ppm_too_high_moves_the_band_edges() {
+    assert!(!passes("prism_band_edges", Some(Fault::IorScale(1.000_002))));
 }
 
 /// The light tracer carries polarisation through the prism: the flux in the spectral lines is

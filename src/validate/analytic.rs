@@ -14,7 +14,7 @@ use crate::scene::{parse, Scene};
 /// Names of the analytic cases, in the order [`run`] runs them: the radiometric cases of this
 /// module, the polarisation cases of [`super::polarization`], then the caustic cases of
 /// [`super::caustics`].
-pub const CASES: [&str; 16] = [
+pub const CASES: [&str; 17] = [
     "lambert_point_light",
     "furnace_glass",
     "furnace_dispersive_glass",
@@ -29,6 +29,7 @@ pub const CASES: [&str; 16] = [
     "conductor_pair",
     "polarizer_chain",
     "newton_lines",
+    "prism_band_edges",
     "ball_lens_focus",
     "caustic_power",
 ];

@@ -14,13 +14,14 @@ use crate::render::{render, Job};
 use crate::scene::{parse, Scene};
 
 /// Names of the caustic cases, in the order [`run`] runs them.
-pub const CASES: [&str; 3] = ["newton_lines", "ball_lens_focus", "caustic_power"];
+pub const CASES: [&str; 4] = ["newton_lines", "prism_band_edges", "ball_lens_focus", "caustic_power"];
 
 /// Runs the caustic case `name` with `threads` threads and an optional injected `fault`.
 pub fn run(name: &str, threads: usize, fault: Option<Fault>) -> Result<CaseResult, ValidateError> {
     let ctx = Context { threads, fault };
     match name {
         "newton_lines" => ctx.newton_lines(name),
+        "prism_band_edges" => ctx.band_edges(name),
         "ball_lens_focus" => ctx.ball_lens(name),
         "caustic_power" => ctx.power(name),
         _ => {
@@ -108,6 +109,78 @@ impl Pinhole {
     }
 }
 
+/// The equilateral N-SF11 prism of the prism cases: the built-in prism (side 1.2, length 0.8)
+/// turned 90° about x, so that its cross-section in the xz-plane has the apex at z = 2H/3 and
+/// the base at z = −H/3, with a beam at minimum deviation for index `n_min` aimed at the middle
+/// of its left face.
+struct MinimumDeviationPrism {
+    apex: V3,
+    /// Outward unit normals of the entry (left) and exit (right) faces.
+    entry_normal: V3,
+    exit_normal: V3,
+    /// The beam's unit direction, in the xz-plane.
+    beam_dir: V3,
+    /// The middle of the entry face, where the beam's central ray enters.
+    entry: V3,
+    /// Across the beam, in the xz-plane (unit).
+    across_beam: V3,
+}
+
+impl MinimumDeviationPrism {
+    const SIDE: f64 = 1.2;
+    const LENGTH: f64 = 0.8;
+
+    fn new(n_min: f64) -> Self {
+        let apex_angle = 60f64.to_radians();
+        let height = Self::SIDE * (apex_angle / 2.0).cos();
+        let (apex, left, right) = (
+            [0.0, 0.0, 2.0 * height / 3.0],
+            [-Self::SIDE / 2.0, 0.0, -height / 3.0],
+            [Self::SIDE / 2.0, 0.0, -height / 3.0],
+        );
+        let face_normal = |a: V3, b: V3, outward_hint: V3| {
+            let n = normalize(cross(sub(b, a), [0.0, 1.0, 0.0]));
+            if dot(n, outward_hint) < 0.0 {
+                scale(n, -1.0)
+            } else {
+                n
+            }
+        };
+        let deviation = 2.0 * (n_min * (apex_angle / 2.0).sin()).asin() - apex_angle;
+        let elevation = (deviation + apex_angle) / 2.0 - apex_angle / 2.0;
+        Self {
+            apex,
+            entry_normal: face_normal(left, apex, [-1.0, 0.0, 0.5]),
+            exit_normal: face_normal(apex, right, [1.0, 0.0, 0.5]),
+            beam_dir: [elevation.cos(), 0.0, elevation.sin()],
+            entry: [-Self::SIDE / 4.0, 0.0, height / 6.0],
+            across_beam: [-elevation.sin(), 0.0, elevation.cos()],
+        }
+    }
+
+    /// The beam ray that enters the prism at `entry` (on the entry face) with index `n`: where
+    /// it leaves the exit face and its direction then (vector Snell at both faces).
+    fn trace_from(&self, entry: V3, n: f64) -> Option<(V3, V3)> {
+        let inside = refract(self.beam_dir, self.entry_normal, n)?;
+        let exit = hit_plane(entry, inside, self.apex, self.exit_normal);
+        Some((exit, refract(inside, self.exit_normal, 1.0 / n)?))
+    }
+
+    /// Where the beam ray starting at `origin` meets the entry face's plane.
+    fn entry_of(&self, origin: V3) -> V3 {
+        hit_plane(origin, self.beam_dir, self.apex, self.entry_normal)
+    }
+
+    /// The scene file's `[[shapes]]` entry of the prism.
+    fn shape(&self) -> String {
+        format!(
+            "[[shapes]]\ntype = \"prism\"\napex_angle_deg = 60\nside_length = {}\nlength = {}\nrotate_deg = [90, 0, 0]\nmaterial = \"flint\"\n",
+            Self::SIDE,
+            Self::LENGTH
+        )
+    }
+}
+
 fn fmt(v: V3) -> String {
     format!("[{}, {}, {}]", v[0], v[1], v[2])
 }
@@ -148,35 +221,9 @@ impl Context {
     fn newton_lines(&self, name: &str) -> Result<CaseResult, ValidateError> {
         let sf11 = catalogue::glass("N-SF11").ok_or_else(|| ValidateError::Input("N-SF11 missing".into()))?;
         let n_at = |nm: f64| f64::from(sf11.ior().eval(nm as f32));
-        let apex = 60f64.to_radians();
-        let (side, tall) = (1.2f64, 0.8f64);
-        let height_h = side * (apex / 2.0).cos();
-        // The prism stands with its apex toward +z (the built-in prism turned 90° about x): its
-        // cross-section in the xz-plane has the apex at z = 2H/3 and the base at z = −H/3.
-        let (apex_pt, left_pt, right_pt) = (
-            [0.0, 0.0, 2.0 * height_h / 3.0],
-            [-side / 2.0, 0.0, -height_h / 3.0],
-            [side / 2.0, 0.0, -height_h / 3.0],
-        );
-        let face_normal = |a: V3, b: V3, outward_hint: V3| {
-            let n = normalize(cross(sub(b, a), [0.0, 1.0, 0.0]));
-            if dot(n, outward_hint) < 0.0 {
-                scale(n, -1.0)
-            } else {
-                n
-            }
-        };
-        let n1 = face_normal(left_pt, apex_pt, [-1.0, 0.0, 0.5]);
-        let n2 = face_normal(apex_pt, right_pt, [1.0, 0.0, 0.5]);
-        let deviation_550 = 2.0 * (n_at(550.0) * (apex / 2.0).sin()).asin() - apex;
-        let elevation = (deviation_550 + apex) / 2.0 - apex / 2.0;
-        let beam_dir = [elevation.cos(), 0.0, elevation.sin()];
-        let entry = [-side / 4.0, 0.0, height_h / 6.0];
-        let trace = |nm: f64| -> Option<(V3, V3)> {
-            let inside = refract(beam_dir, n1, n_at(nm))?;
-            let exit = hit_plane(entry, inside, apex_pt, n2);
-            Some((exit, refract(inside, n2, 1.0 / n_at(nm))?))
-        };
+        let prism = MinimumDeviationPrism::new(n_at(550.0));
+        let (beam_dir, entry) = (prism.beam_dir, prism.entry);
+        let trace = |nm: f64| prism.trace_from(entry, n_at(nm));
         let (exit_550, out_550) = trace(550.0)
             .ok_or_else(|| ValidateError::Input("the 550 nm ray does not leave the prism".into()))?;
         let screen_centre = add(exit_550, scale(out_550, 2.5));
@@ -184,7 +231,7 @@ impl Context {
         let across = normalize(cross([0.0, 1.0, 0.0], screen_normal));
         let slit_width = 0.01;
         let slit_centre = sub(entry, scale(beam_dir, 2.0));
-        let slit_across = [-elevation.sin(), 0.0, elevation.cos()];
+        let slit_across = prism.across_beam;
         let slit_corner = add(sub(slit_centre, scale(slit_across, slit_width / 2.0)), [0.0, -0.15, 0.0]);
         let screen_corner = add(sub(screen_centre, scale(across, 0.8)), [0.0, -0.5, 0.0]);
         let camera_pos = add(screen_centre, scale(screen_normal, 1.2));
@@ -194,11 +241,12 @@ impl Context {
              [render]\nspp = 1\nmax_depth = 12\nprune_below = 0\nwavelengths = 4\ncaustics = true\nlight_paths = 300000\nseed = 7\n\
              [materials.flint]\ntype = \"dielectric\"\nior = {{ glass = \"N-SF11\" }}\n\
              [materials.white]\ntype = \"diffuse\"\nalbedo = 0.8\n\
-             [[shapes]]\ntype = \"prism\"\napex_angle_deg = 60\nside_length = {side}\nlength = {tall}\nrotate_deg = [90, 0, 0]\nmaterial = \"flint\"\n\
+             {prism}\
              [[shapes]]\ntype = \"quad\"\ncorner = {sc}\nedge1 = {se1}\nedge2 = [0, 1, 0]\nmaterial = \"white\"\n\
              [[lights]]\ntype = \"beam\"\ncorner = {bc}\nedge1 = {be1}\nedge2 = [0, 0.3, 0]\nirradiance = 10\nemit = \"edge2_cross_edge1\"\n",
             cam = fmt(camera_pos),
             look = fmt(screen_centre),
+            prism = prism.shape(),
             sc = fmt(screen_corner),
             se1 = fmt(scale(across, 1.6)),
             bc = fmt(slit_corner),
@@ -256,9 +304,9 @@ impl Context {
             received += std::f64::consts::PI * radiance_sum / 0.8 * pixel_area * f64::from(bands.width_nm());
             let nm = f64::from(bands.center_nm(band));
             let n = n_at(nm);
-            let cos_1 = -dot(beam_dir, n1);
-            let inside = refract(beam_dir, n1, n).unwrap_or(beam_dir);
-            let cos_2 = dot(inside, n2);
+            let cos_1 = -dot(beam_dir, prism.entry_normal);
+            let inside = refract(beam_dir, prism.entry_normal, n).unwrap_or(beam_dir);
+            let cos_2 = dot(inside, prism.exit_normal);
             let (rs1, rp1) = super::analytic::reference_reflectances(cos_1, 1.0, n);
             let (rs2, rp2) = super::analytic::reference_reflectances(cos_2, n, 1.0);
             let transmittance = 0.5 * ((1.0 - rs1) * (1.0 - rs2) + (1.0 - rp1) * (1.0 - rp2));
@@ -278,6 +326,102 @@ impl Context {
                   (light tracer, one spectral render, 4 nm bands) lies where the exactly traced ray lands \
                   (D = 2·asin(n·sin(A/2)) − A at 550 nm); 1 px = 0.086° of deviation"
                 .into(),
+        })
+    }
+
+    /// The edges of a narrow collimated beam through the prism, seen at 10⁻⁴ scene units per
+    /// pixel: a 3 × 2.4 mm beam at minimum deviation for 550 nm (one wavelength) lands on a
+    /// screen 2.5 units past the prism, perpendicular to the central ray, and a camera 1.2 units
+    /// in front of it looks square at it (64 × 16 pixels, 6.4 × 1.6 mm), so that the band's two
+    /// side edges are columns of the image and its top and bottom lie outside the view. Each
+    /// edge's position is read off the image to a fraction of a pixel: the light of the columns
+    /// around it over the band's level (the screen is Lambertian and evenly lit, so the band's
+    /// radiance is flat), and compared with where the beam's side rays land, traced here in f64
+    /// (vector Snell at both faces, the screen plane, the pinhole projection). A pixel here is
+    /// 10⁻⁴ units; the light tracer's rays must follow Snell's law to 10⁻⁶ units through the two
+    /// faces: an offset of the kind Mitsuba 3 gives its continued rays ((1 + max|p|)·8.9·10⁻⁵
+    /// along the normal, validation/README.md) would move the edges by about 1 px, an index
+    /// 10⁻⁵ too high by about 0.5 px.
+    fn band_edges(&self, name: &str) -> Result<CaseResult, ValidateError> {
+        let sf11 = catalogue::glass("N-SF11").ok_or_else(|| ValidateError::Input("N-SF11 missing".into()))?;
+        let n = f64::from(sf11.ior().eval(550.0));
+        let prism = MinimumDeviationPrism::new(n);
+        let (exit, out) = prism
+            .trace_from(prism.entry, n)
+            .ok_or_else(|| ValidateError::Input("the central ray does not leave the prism".into()))?;
+        let screen_centre = add(exit, scale(out, 2.5));
+        let screen_normal = scale(out, -1.0);
+        let across = normalize(cross([0.0, 1.0, 0.0], screen_normal));
+        let (beam_width, beam_height) = (0.003, 0.0024);
+        let slit_centre = sub(prism.entry, scale(prism.beam_dir, 2.0));
+        let slit_corner =
+            add(sub(slit_centre, scale(prism.across_beam, beam_width / 2.0)), [0.0, -beam_height / 2.0, 0.0]);
+        let distance = 1.2;
+        // The view's centre 0.37 px off the central ray, so that the edges (30 px apart at
+        // minimum deviation) do not fall on pixel boundaries.
+        let view_centre = add(screen_centre, scale(across, 0.37 * 1e-4));
+        let camera_pos = add(view_centre, scale(screen_normal, distance));
+        let (width, height) = (64u32, 16u32);
+        let pixel = 1e-4;
+        let fov_y = 2.0 * (0.5 * f64::from(height) * pixel / distance).atan().to_degrees();
+        let camera = Pinhole::new(camera_pos, view_centre, [0.0, 1.0, 0.0], fov_y, width, height);
+        // Where the beam's two side rays land, in image columns.
+        let mut exact = Vec::new();
+        for side in [0.0, 1.0] {
+            let origin = add(slit_corner, scale(prism.across_beam, side * beam_width));
+            let (exit, out) = prism
+                .trace_from(prism.entry_of(origin), n)
+                .ok_or_else(|| ValidateError::Input("a side ray does not leave the prism".into()))?;
+            exact.push(camera.project(hit_plane(exit, out, screen_centre, screen_normal)).0);
+        }
+        exact.sort_by(f64::total_cmp);
+        let (left, right) = (exact[0], exact[1]);
+        let text = format!(
+            "[camera]\nposition = {cam}\nlook_at = {look}\nfov_y_deg = {fov_y}\nwidth = {width}\nheight = {height}\n\
+             [render]\nspp = 1\nmax_depth = 12\nprune_below = 0\ncaustics = true\nlight_paths = 2000000\nseed = 11\n\
+             [materials.flint]\ntype = \"dielectric\"\nior = {{ glass = \"N-SF11\" }}\n\
+             [materials.white]\ntype = \"diffuse\"\nalbedo = 0.8\n\
+             {prism}\
+             [[shapes]]\ntype = \"quad\"\ncorner = {sc}\nedge1 = {se1}\nedge2 = [0, 0.2, 0]\nmaterial = \"white\"\n\
+             [[lights]]\ntype = \"beam\"\ncorner = {bc}\nedge1 = {be1}\nedge2 = [0, {beam_height}, 0]\nirradiance = 10\nemit = \"edge2_cross_edge1\"\n",
+            cam = fmt(camera_pos),
+            look = fmt(view_centre),
+            prism = prism.shape(),
+            sc = fmt(add(sub(screen_centre, scale(across, 0.1)), [0.0, -0.1, 0.0])),
+            se1 = fmt(scale(across, 0.2)),
+            bc = fmt(slit_corner),
+            be1 = fmt(scale(prism.across_beam, beam_width)),
+        );
+        let film = self.render(&self.scene(&text, name)?, Some(550.0), None)?;
+        let mut columns = vec![0.0f64; width as usize];
+        for (i, value) in film.xyz().iter().enumerate() {
+            columns[i % width as usize] += f64::from(value.y);
+        }
+        let column = |x: f64| x.floor() as i64;
+        let sum = |from: i64, to: i64| -> f64 {
+            (from..to)
+                .map(|c| usize::try_from(c).ok().and_then(|c| columns.get(c)).copied().unwrap_or(0.0))
+                .sum()
+        };
+        // The band's level: its columns at least 3 px from either edge.
+        let (inner_from, inner_to) = (column(left) + 4, column(right) - 3);
+        let level = sum(inner_from, inner_to) / (inner_to - inner_from).max(1) as f64;
+        // Each edge from the light of the columns from 3 px outside it to 3 px inside.
+        let measured_left = (column(left) + 3) as f64 - sum(column(left) - 3, column(left) + 3) / level;
+        let measured_right = (column(right) - 2) as f64 + sum(column(right) - 2, column(right) + 4) / level;
+        let error = (measured_left - left).abs().max((measured_right - right).abs());
+        Ok(CaseResult {
+            name: name.into(),
+            checks: vec![Check {
+                metric: "max |band edge − exact| (px of 1e-4)".into(),
+                value: if error.is_nan() { f64::INFINITY } else { error },
+                threshold: 0.05,
+            }],
+            why:
+                "a 3 mm collimated beam through an N-SF11 prism at minimum deviation (550 nm), its band on a \
+                  screen seen at 1e-4 scene units per pixel: both side edges (light tracer) lie where the \
+                  beam's side rays land, traced in f64 with Snell's law"
+                    .into(),
         })
     }
 
