@@ -171,12 +171,35 @@ impl MinimumDeviationPrism {
         hit_plane(origin, self.beam_dir, self.apex, self.entry_normal)
     }
 
-    /// The scene file's `[[shapes]]` entry of the prism.
-    fn shape(&self) -> String {
+    /// A scene file of this prism in flint, a white (ρ = 0.8) screen quad at `screen_corner`
+    /// with edges `screen_across` and (0, `screen_height`, 0), and a beam light of irradiance 10
+    /// from `beam_corner` with edges `beam_across` and (0, `beam_height`, 0), emitting along
+    /// edge2 × edge1; `camera` and `render` are the bodies of those tables.
+    #[allow(clippy::too_many_arguments)] // a scene's numbers, passed flat
+    fn scene_text(
+        &self,
+        camera: &str,
+        render: &str,
+        screen_corner: V3,
+        screen_across: V3,
+        screen_height: f64,
+        beam_corner: V3,
+        beam_across: V3,
+        beam_height: f64,
+    ) -> String {
         format!(
-            "[[shapes]]\ntype = \"prism\"\napex_angle_deg = 60\nside_length = {}\nlength = {}\nrotate_deg = [90, 0, 0]\nmaterial = \"flint\"\n",
-            Self::SIDE,
-            Self::LENGTH
+            "[camera]\n{camera}[render]\n{render}\
+             [materials.flint]\ntype = \"dielectric\"\nior = {{ glass = \"N-SF11\" }}\n\
+             [materials.white]\ntype = \"diffuse\"\nalbedo = 0.8\n\
+             [[shapes]]\ntype = \"prism\"\napex_angle_deg = 60\nside_length = {side}\nlength = {length}\nrotate_deg = [90, 0, 0]\nmaterial = \"flint\"\n\
+             [[shapes]]\ntype = \"quad\"\ncorner = {sc}\nedge1 = {se1}\nedge2 = [0, {screen_height}, 0]\nmaterial = \"white\"\n\
+             [[lights]]\ntype = \"beam\"\ncorner = {bc}\nedge1 = {be1}\nedge2 = [0, {beam_height}, 0]\nirradiance = 10\nemit = \"edge2_cross_edge1\"\n",
+            side = Self::SIDE,
+            length = Self::LENGTH,
+            sc = fmt(screen_corner),
+            se1 = fmt(screen_across),
+            bc = fmt(beam_corner),
+            be1 = fmt(beam_across),
         )
     }
 }
@@ -236,21 +259,19 @@ impl Context {
         let screen_corner = add(sub(screen_centre, scale(across, 0.8)), [0.0, -0.5, 0.0]);
         let camera_pos = add(screen_centre, scale(screen_normal, 1.2));
         let (width, height, fov_y) = (160u32, 48u32, 2.0 * (0.25f64 / (160.0 / 48.0)).atan().to_degrees());
-        let text = format!(
-            "[camera]\nposition = {cam}\nlook_at = {look}\nfov_y_deg = {fov_y}\nwidth = {width}\nheight = {height}\n\
-             [render]\nspp = 1\nmax_depth = 12\nprune_below = 0\nwavelengths = 4\ncaustics = true\nlight_paths = 300000\nseed = 7\n\
-             [materials.flint]\ntype = \"dielectric\"\nior = {{ glass = \"N-SF11\" }}\n\
-             [materials.white]\ntype = \"diffuse\"\nalbedo = 0.8\n\
-             {prism}\
-             [[shapes]]\ntype = \"quad\"\ncorner = {sc}\nedge1 = {se1}\nedge2 = [0, 1, 0]\nmaterial = \"white\"\n\
-             [[lights]]\ntype = \"beam\"\ncorner = {bc}\nedge1 = {be1}\nedge2 = [0, 0.3, 0]\nirradiance = 10\nemit = \"edge2_cross_edge1\"\n",
-            cam = fmt(camera_pos),
-            look = fmt(screen_centre),
-            prism = prism.shape(),
-            sc = fmt(screen_corner),
-            se1 = fmt(scale(across, 1.6)),
-            bc = fmt(slit_corner),
-            be1 = fmt(scale(slit_across, slit_width)),
+        let text = prism.scene_text(
+            &format!(
+                "position = {}\nlook_at = {}\nfov_y_deg = {fov_y}\nwidth = {width}\nheight = {height}\n",
+                fmt(camera_pos),
+                fmt(screen_centre)
+            ),
+            "spp = 1\nmax_depth = 12\nprune_below = 0\nwavelengths = 4\ncaustics = true\nlight_paths = 300000\nseed = 7\n",
+            screen_corner,
+            scale(across, 1.6),
+            1.0,
+            slit_corner,
+            scale(slit_across, slit_width),
+            0.3,
         );
         let scene = self.scene(&text, name)?;
         let bands = SpectralBands { count: 51, min_nm: 448.0, max_nm: 652.0 };
@@ -376,21 +397,19 @@ impl Context {
         }
         exact.sort_by(f64::total_cmp);
         let (left, right) = (exact[0], exact[1]);
-        let text = format!(
-            "[camera]\nposition = {cam}\nlook_at = {look}\nfov_y_deg = {fov_y}\nwidth = {width}\nheight = {height}\n\
-             [render]\nspp = 1\nmax_depth = 12\nprune_below = 0\ncaustics = true\nlight_paths = 2000000\nseed = 11\n\
-             [materials.flint]\ntype = \"dielectric\"\nior = {{ glass = \"N-SF11\" }}\n\
-             [materials.white]\ntype = \"diffuse\"\nalbedo = 0.8\n\
-             {prism}\
-             [[shapes]]\ntype = \"quad\"\ncorner = {sc}\nedge1 = {se1}\nedge2 = [0, 0.2, 0]\nmaterial = \"white\"\n\
-             [[lights]]\ntype = \"beam\"\ncorner = {bc}\nedge1 = {be1}\nedge2 = [0, {beam_height}, 0]\nirradiance = 10\nemit = \"edge2_cross_edge1\"\n",
-            cam = fmt(camera_pos),
-            look = fmt(view_centre),
-            prism = prism.shape(),
-            sc = fmt(add(sub(screen_centre, scale(across, 0.1)), [0.0, -0.1, 0.0])),
-            se1 = fmt(scale(across, 0.2)),
-            bc = fmt(slit_corner),
-            be1 = fmt(scale(prism.across_beam, beam_width)),
+        let text = prism.scene_text(
+            &format!(
+                "position = {}\nlook_at = {}\nfov_y_deg = {fov_y}\nwidth = {width}\nheight = {height}\n",
+                fmt(camera_pos),
+                fmt(view_centre)
+            ),
+            "spp = 1\nmax_depth = 12\nprune_below = 0\ncaustics = true\nlight_paths = 2000000\nseed = 11\n",
+            add(sub(screen_centre, scale(across, 0.1)), [0.0, -0.1, 0.0]),
+            scale(across, 0.2),
+            0.2,
+            slit_corner,
+            scale(prism.across_beam, beam_width),
+            beam_height,
         );
         let film = self.render(&self.scene(&text, name)?, Some(550.0), None)?;
         let mut columns = vec![0.0f64; width as usize];
