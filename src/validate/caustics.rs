@@ -361,7 +361,7 @@ impl Context {
     /// (vector Snell at both faces, the screen plane, the pinhole projection). A pixel here is
     /// 10⁻⁴ units; the light tracer's rays must follow Snell's law to 10⁻⁶ units through the two
     /// faces: an offset of the kind Mitsuba 3 gives its continued rays ((1 + max|p|)·8.9·10⁻⁵
-    /// along the normal, validation/README.md) would move the edges by about 1 px, an index
+    /// along the normal, validation/README.md) would move the edges by about 0.8 px, an index
     /// 10⁻⁵ too high by about 0.5 px.
     fn band_edges(&self, name: &str) -> Result<CaseResult, ValidateError> {
         let sf11 = catalogue::glass("N-SF11").ok_or_else(|| ValidateError::Input("N-SF11 missing".into()))?;

@@ -19,7 +19,7 @@ measured / predicted for Mitsuba's references (the mean of the two) and for pris
 and the shift of the edge between the models in pixels. The right edge is not used: its
 columns also receive light reflected inside the prism.
 
-Run from the repository root (about half a minute):
+Run from the repository root after `cargo build --release` (about ten seconds):
   validation/.venv/bin/python validation/mitsuba/prism_edge_study.py [450 550 650]
 Writes nothing but temporary files.
 """
