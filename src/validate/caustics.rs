@@ -362,7 +362,7 @@ impl Context {
     /// 10⁻⁴ units; the light tracer's rays must follow Snell's law to 10⁻⁶ units through the two
     /// faces: an offset of the kind Mitsuba 3 gives its continued rays ((1 + max|p|)·8.9·10⁻⁵
     /// along the normal, validation/README.md) would move the edges by about 0.8 px, an index
-    /// 10⁻⁵ too high by about 0.5 px.
+    /// 10⁻⁵ too high by 1.0 px (2·10⁻⁶: 0.2 px, tested).
     fn band_edges(&self, name: &str) -> Result<CaseResult, ValidateError> {
         let sf11 = catalogue::glass("N-SF11").ok_or_else(|| ValidateError::Input("N-SF11 missing".into()))?;
         let n = f64::from(sf11.ior().eval(550.0));
