@@ -378,12 +378,13 @@ impl Context {
         let slit_corner =
             add(sub(slit_centre, scale(prism.across_beam, beam_width / 2.0)), [0.0, -beam_height / 2.0, 0.0]);
         let distance = 1.2;
+        let (width, height) = (64u32, 16u32);
+        // Scene units per pixel at the screen.
+        let pixel = 1e-4;
         // The view's centre 0.37 px off the central ray, so that the edges (30 px apart at
         // minimum deviation) do not fall on pixel boundaries.
-        let view_centre = add(screen_centre, scale(across, 0.37 * 1e-4));
+        let view_centre = add(screen_centre, scale(across, 0.37 * pixel));
         let camera_pos = add(view_centre, scale(screen_normal, distance));
-        let (width, height) = (64u32, 16u32);
-        let pixel = 1e-4;
         let fov_y = 2.0 * (0.5 * f64::from(height) * pixel / distance).atan().to_degrees();
         let camera = Pinhole::new(camera_pos, view_centre, [0.0, 1.0, 0.0], fov_y, width, height);
         // Where the beam's two side rays land, in image columns.
