@@ -543,7 +543,7 @@ struct Stack {
 impl Stack {
     #[inline]
     fn new() -> Self {
-        Self { entries: [MaybeUninit::uninit(); STACK_SIZE], len: 0 }
+        Self { entries: [const { MaybeUninit::uninit() }; STACK_SIZE], len: 0 }
     }
 
     /// Panics (index out of bounds) if the stack is full, which the depth cap rules out.
