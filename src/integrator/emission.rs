@@ -128,7 +128,9 @@ fn cones_pdf(cones: &[Cone], total: f32, dir: Vec3) -> f32 {
 /// How a point or spot light draws directions, fixed when the tracer is built.
 #[derive(Debug, Clone)]
 enum Directions {
-    /// The light's own distribution: uniform over the sphere (point) or the cutoff cone (spot).
+    /// The light's own distribution: uniform over the sphere for a point light (quad lights and
+    /// beams draw theirs in [`Emission::sample`]). A spot's own distribution, its cutoff cone,
+    /// is held as [`Self::Cones`], framed once.
     Own,
     /// The union of the cones toward the mirrors and glass.
     Cones { cones: Vec<Cone>, total: f32 },
@@ -196,6 +198,14 @@ impl Emission {
                         None => (own_solid_angle, Directions::Own),
                     };
                     let reach = solid_angle.min(spot.solid_angle_weight());
+                    // Its own distribution is its cutoff cone, framed here once for all paths.
+                    let directions = match directions {
+                        Directions::Own => Directions::Cones {
+                            cones: vec![Cone::new(spot.axis, spot.cos_cutoff()).framed()],
+                            total: own_solid_angle,
+                        },
+                        aimed => aimed,
+                    };
                     (spot.intensity.integral_nm() * f64::from(reach), directions)
                 }
                 Light::Quad(quad) => (
@@ -249,20 +259,13 @@ impl Emission {
         let light = &scene.lights[chosen.light];
         let (origin, normal, dir, weight) = match light {
             Light::Point(point) => {
-                let (dir, pdf) = match &chosen.directions {
-                    Directions::Own => (uniform_sphere(u_dir), 1.0 / FOUR_PI),
-                    Directions::Cones { cones, total } => sample_cones(cones, *total, next, u_dir),
-                };
+                let (dir, pdf) = directions(&chosen.directions, next, u_dir);
                 (point.position, None, dir, 1.0 / pdf)
             }
             Light::Spot(spot) => {
-                let (dir, pdf) = match &chosen.directions {
-                    Directions::Own => {
-                        let own = Cone::new(spot.axis, spot.cos_cutoff());
-                        (own.sample(u_dir), 1.0 / own.solid_angle())
-                    }
-                    Directions::Cones { cones, total } => sample_cones(cones, *total, next, u_dir),
-                };
+                // Its directions are always cones (its own cutoff cone, or those aimed at the
+                // targets); were they the whole sphere, the falloff would still weigh them.
+                let (dir, pdf) = directions(&chosen.directions, next, u_dir);
                 (spot.position, None, dir, spot.falloff(dir) / pdf)
             }
             Light::Quad(quad) => {
@@ -327,6 +330,14 @@ impl Emission {
         let bitangent = normal.cross(tangent);
         let dir = (cos_theta * normal + radius * (cos_phi * tangent + sin_phi * bitangent)).normalize();
         (dir, dir.dot(normal).max(1e-8) * std::f32::consts::FRAC_1_PI)
+    }
+}
+
+/// A direction drawn from a point or spot light's `directions` with `u`, and its density (sr⁻¹).
+fn directions(directions: &Directions, next: &mut impl FnMut() -> f32, u: (f32, f32)) -> (Vec3, f32) {
+    match directions {
+        Directions::Own => (uniform_sphere(u), 1.0 / FOUR_PI),
+        Directions::Cones { cones, total } => sample_cones(cones, *total, next, u),
     }
 }
 
