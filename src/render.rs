@@ -266,10 +266,10 @@ pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
     let mut light_elapsed = Duration::ZERO;
     let finished = AtomicBool::new(false);
     let result: Result<(), RenderError> = std::thread::scope(|scope| {
-        if let Some(every) = job.progress_log {
+        let logger = job.progress_log.map(|every| {
             let (progress, finished) = (&progress, &finished);
-            scope.spawn(move || log_progress(progress, every, finished, start));
-        }
+            scope.spawn(move || log_progress(progress, every, finished, start))
+        });
         let result = (|| {
             let mut blocks = 0;
             let mut block_len = 1u32;
@@ -319,6 +319,10 @@ pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
             Ok(())
         })();
         finished.store(true, Ordering::SeqCst);
+        // Wake the logger now rather than at its next tick, which the render would wait for.
+        if let Some(logger) = &logger {
+            logger.thread().unpark();
+        }
         result
     });
     result?;
@@ -347,7 +351,11 @@ fn not_summable(x: u32, y: u32) -> RenderError {
 fn log_progress(progress: &ProgressBar, every: Duration, finished: &AtomicBool, start: Instant) {
     let mut next = FIRST_PROGRESS_LOG.min(every);
     while !finished.load(Ordering::SeqCst) {
-        std::thread::sleep(Duration::from_millis(100));
+        // Unparked when the render finishes (a wake-up without it just loops).
+        std::thread::park_timeout(Duration::from_millis(100));
+        if finished.load(Ordering::SeqCst) {
+            break;
+        }
         if start.elapsed() < next {
             continue;
         }
