@@ -59,7 +59,7 @@ use super::{element, fresnel, rotation, Beam, Fault, TraceStats};
 use crate::film::{FilmLayout, Splats};
 use crate::geometry::{spawn_origin, Hit, Ray};
 use crate::material::{Dielectric, Diffuse, Material};
-use crate::optics::{reflect, refract};
+use crate::optics::{reflect, refract, DielectricFresnel};
 use crate::polarization::frame::{any_perpendicular, s_axis};
 use crate::polarization::mueller::JonesDiagonal;
 use crate::polarization::Mueller;
@@ -82,6 +82,17 @@ struct Photon<B> {
     flux: B,
     depth: u32,
     through_specular: bool,
+}
+
+/// Where the branches of a path at a dielectric leave from: the hit, the path arriving, its
+/// starting flux (for roulette), the s axis both branches are framed in, and the reflected
+/// direction.
+struct Branches<'a, B> {
+    hit: &'a Hit,
+    photon: &'a Photon<B>,
+    reference: f32,
+    frame_x: Vec3,
+    out: Vec3,
 }
 
 /// Scratch space of one worker, reused from path to path.
@@ -328,17 +339,38 @@ impl<'a> LightTracer<'a> {
         if live_count == 0 {
             return;
         }
-        let shared = !dielectric.ior.is_dispersive() || live_count == 1;
-        let first_live = live.iter().position(|&l| l).unwrap_or(0);
         let fresnel_at =
             |lane: usize| fresnel(self.fault, cos_theta_i, dielectric.ior.eval(wavelengths.lambda_nm(lane)));
-        let fresnels: [_; N_LAMBDA] =
-            if shared { [fresnel_at(first_live); N_LAMBDA] } else { std::array::from_fn(fresnel_at) };
-
         // Both branches leave in the s frame of this incidence, where the Fresnel matrices are
         // diagonal.
         let s = if B::POLARIZED { s_axis(normal, dir, photon.frame_x) } else { photon.frame_x };
         let incident = flux.rotated(rotation(self.fault, dir, photon.frame_x, s));
+        let branches = Branches { hit, photon, reference, frame_x: s, out: reflect(dir, normal).normalize() };
+
+        if !dielectric.ior.is_dispersive() || live_count == 1 {
+            // One index for every live lane: one Fresnel evaluation and one refracted direction
+            // (the common case, kept free of per-lane arrays).
+            let first_live = live.iter().position(|&l| l).unwrap_or(0);
+            let f = fresnel_at(first_live);
+            let reflection = if B::POLARIZED {
+                Mueller::splat(element(self.fault, JonesDiagonal::dielectric_reflection(cos_theta_i, &f)))
+            } else {
+                Mueller::attenuation(SampledSpectrum::splat(f.reflectance))
+            };
+            let refracted = self
+                .transmission::<B>(dir, normal, &f)
+                .map(|(dir_t, transmission)| (dir_t, incident.through(&transmission)));
+            self.choose_branch::<B>(
+                &branches,
+                incident.through(&reflection),
+                std::slice::from_ref(&refracted),
+                scratch,
+                rng,
+            );
+            return;
+        }
+
+        let fresnels: [_; N_LAMBDA] = std::array::from_fn(fresnel_at);
         let reflection = if B::POLARIZED {
             Mueller::from_lanes(
                 &fresnels.map(|f| element(self.fault, JonesDiagonal::dielectric_reflection(cos_theta_i, &f))),
@@ -346,39 +378,51 @@ impl<'a> LightTracer<'a> {
         } else {
             Mueller::attenuation(SampledSpectrum { values: fresnels.map(|f| f.reflectance) })
         };
-        let reflected = incident.through(&reflection);
-
-        // Refraction carries flux: (1 − R) without the camera side's 1/η².
-        let refract_lane = |lane: usize| {
-            let f = &fresnels[lane];
-            if f.reflectance >= 1.0 {
-                return None;
-            }
-            let dir_t = refract(dir, normal, 1.0 / f.eta_it)?;
-            let element = if B::POLARIZED {
-                JonesDiagonal::dielectric_transmission(f)
-            } else {
-                JonesDiagonal { a: 1.0 - f.reflectance, b: 0.0, w_re: 0.0, w_im: 0.0 }
-            };
-            let mut transmission = Mueller::splat(element);
-            if self.fault == Some(Fault::LightPathRadianceScaling) {
-                transmission = transmission.scaled(SampledSpectrum::splat(1.0 / (f.eta_it * f.eta_it)));
-            }
-            Some((dir_t.normalize(), transmission))
-        };
         let mut refracted: [Option<(Vec3, B)>; N_LAMBDA] = [None; N_LAMBDA];
-        if shared {
-            if let Some((dir_t, transmission)) = refract_lane(first_live) {
-                refracted[0] = Some((dir_t, incident.through(&transmission)));
-            }
-        } else {
-            for lane in (0..N_LAMBDA).filter(|&i| live[i]) {
-                if let Some((dir_t, transmission)) = refract_lane(lane) {
-                    refracted[lane] = Some((dir_t, incident.only_lane(lane).through(&transmission)));
-                }
+        for lane in (0..N_LAMBDA).filter(|&i| live[i]) {
+            if let Some((dir_t, transmission)) = self.transmission::<B>(dir, normal, &fresnels[lane]) {
+                refracted[lane] = Some((dir_t, incident.only_lane(lane).through(&transmission)));
             }
         }
+        self.choose_branch::<B>(&branches, incident.through(&reflection), &refracted, scratch, rng);
+    }
 
+    /// The refracted direction and the Mueller matrix of a refraction with Fresnel terms `f`, or
+    /// `None` under total internal reflection. Refraction carries flux: (1 − R) without the
+    /// camera side's 1/η².
+    fn transmission<B: Beam>(
+        &self,
+        dir: Vec3,
+        normal: Vec3,
+        f: &DielectricFresnel,
+    ) -> Option<(Vec3, Mueller)> {
+        if f.reflectance >= 1.0 {
+            return None;
+        }
+        let dir_t = refract(dir, normal, 1.0 / f.eta_it)?;
+        let element = if B::POLARIZED {
+            JonesDiagonal::dielectric_transmission(f)
+        } else {
+            JonesDiagonal { a: 1.0 - f.reflectance, b: 0.0, w_re: 0.0, w_im: 0.0 }
+        };
+        let mut transmission = Mueller::splat(element);
+        if self.fault == Some(Fault::LightPathRadianceScaling) {
+            transmission = transmission.scaled(SampledSpectrum::splat(1.0 / (f.eta_it * f.eta_it)));
+        }
+        Some((dir_t.normalize(), transmission))
+    }
+
+    /// Continues a path at a dielectric along one branch, chosen with probability proportional
+    /// to its flux (summed over the lanes) and divided by that probability: `reflected`, or all
+    /// of `refracted` (one entry per lane that refracts on its own direction, or one for all).
+    fn choose_branch<B: Beam>(
+        &self,
+        at: &Branches<B>,
+        reflected: B,
+        refracted: &[Option<(Vec3, B)>],
+        scratch: &mut Scratch<B>,
+        rng: &mut LightPathRng,
+    ) {
         let total = |beam: &B| beam.components()[0].values.iter().sum::<f32>();
         let reflected_flux = total(&reflected);
         let refracted_flux: f32 = refracted.iter().flatten().map(|(_, beam)| total(beam)).sum();
@@ -387,15 +431,23 @@ impl<'a> LightTracer<'a> {
             return;
         }
         let p_reflect = reflected_flux / all;
-        let out = reflect(dir, normal).normalize();
         if rng.uniform() < p_reflect {
             let flux = reflected.scaled(SampledSpectrum::splat(1.0 / p_reflect));
-            self.push(scratch, hit, out, s, flux, photon, true, reference, rng);
+            self.push(scratch, at.hit, at.out, at.frame_x, flux, at.photon, true, at.reference, rng);
         } else {
             let scale = SampledSpectrum::splat(1.0 / (1.0 - p_reflect));
-            // By reference: moving the array out copied all of it.
             for (dir_t, beam) in refracted.iter().flatten() {
-                self.push(scratch, hit, *dir_t, s, beam.scaled(scale), photon, true, reference, rng);
+                self.push(
+                    scratch,
+                    at.hit,
+                    *dir_t,
+                    at.frame_x,
+                    beam.scaled(scale),
+                    at.photon,
+                    true,
+                    at.reference,
+                    rng,
+                );
             }
         }
     }
