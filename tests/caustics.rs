@@ -151,3 +151,56 @@ fn beams_and_spots_light_diffuse_surfaces_in_whitted() {
     assert!((spotlit.xyz()[centre].y - expected).abs() < 2e-3 * expected, "{}", spotlit.xyz()[centre].y);
     assert_eq!(spotlit.xyz()[0].y, 0.0, "outside the cone");
 }
+
+/// `--width` and `--height` scale the scene file's `light_paths` with the pixel count (a
+/// preview keeps the caustics' light paths per pixel, and their noise, as the camera samples
+/// do); `--light-paths` is taken as given; a scaled count above the limit is a one-line input
+/// error (exit 2, no image).
+#[test]
+fn resolution_flags_scale_the_scenes_light_paths() {
+    let dir = tempfile::tempdir().unwrap();
+    let render = |scene: &std::path::Path, extra: &[&str]| {
+        let stats = dir.path().join("stats.json");
+        let _ = std::fs::remove_file(&stats);
+        let output = Command::new(env!("CARGO_BIN_EXE_prisma"))
+            .arg("render")
+            .arg(scene)
+            .args(["--spp", "1", "--quiet", "-o"])
+            .arg(dir.path().join("image.exr"))
+            .arg("--stats")
+            .arg(&stats)
+            .args(extra)
+            .output()
+            .unwrap();
+        let figures = std::fs::read_to_string(&stats)
+            .ok()
+            .map(|text| serde_json::from_str::<serde_json::Value>(&text).unwrap()["light_paths"].as_u64().unwrap());
+        (output, figures)
+    };
+    // glass_sphere_spot: 720 000 light paths per pass at 800 × 450. At 40 × 23 (the height
+    // follows the 16:9 aspect, 22.5 rounded up): 720 000 · 920 / 360 000 = 1840.
+    let spot = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/glass_sphere_spot.toml");
+    let (output, paths) = render(&spot, &["--width", "40"]);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    assert_eq!(paths, Some(1840));
+    let (output, paths) = render(&spot, &["--width", "40", "--light-paths", "300"]);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    assert_eq!(paths, Some(300));
+
+    // 2⁴⁰ per pass at 2 × 1 pixels, rendered at 4 × 2: four times the limit.
+    let text = std::fs::read_to_string(&spot).unwrap();
+    let huge = text
+        .replace("width = 800", "width = 2")
+        .replace("height = 450", "height = 1")
+        .replace("light_paths = 720000", "light_paths = 1099511627776");
+    let huge_path = dir.path().join("huge.toml");
+    std::fs::write(&huge_path, huge).unwrap();
+    std::fs::remove_file(dir.path().join("image.exr")).unwrap();
+    let (output, paths) = render(&huge_path, &["--width", "4", "--height", "2"]);
+    assert_eq!(output.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
+    assert!(stderr.contains("huge.toml") && stderr.contains("render.light_paths"), "{stderr}");
+    assert_eq!(paths, None);
+    assert!(!dir.path().join("image.exr").exists(), "no image after an input error");
+}

@@ -75,7 +75,8 @@ pub struct RenderArgs {
     #[arg(long)]
     no_caustics: bool,
     /// Light paths per pass with caustics (a render makes one pass per sample per pixel)
-    /// [default: the scene's `light_paths`, else one per pixel].
+    /// [default: the scene's `light_paths`, scaled with the pixel count when --width or --height
+    /// change it; else one per pixel].
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..=MAX_LIGHT_PATHS))]
     light_paths: Option<u64>,
     /// Also write the mean spectral radiance in N bands (Fichet et al. 2021 spectral EXR layout).
@@ -164,6 +165,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     }
     .map_err(|e| CliError::Input(e.into()))?;
 
+    let scene_pixels = u64::from(scene.camera.width()) * u64::from(scene.camera.height());
     let (width, height) = resolution(scene.camera.width(), scene.camera.height(), args.width, args.height)
         .map_err(CliError::Input)?;
     scene.camera = scene
@@ -184,7 +186,14 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     } else if args.no_caustics {
         settings.caustics = false;
     }
-    settings.light_paths = args.light_paths.or(settings.light_paths);
+    settings.light_paths = match (args.light_paths, settings.light_paths) {
+        (Some(paths), _) => Some(paths),
+        (None, Some(paths)) => Some(
+            light_paths_at(paths, scene_pixels, u64::from(width) * u64::from(height))
+                .map_err(|e| CliError::Input(anyhow!("{}: {e}", args.scene.display())))?,
+        ),
+        (None, None) => None,
+    };
     if settings.caustics {
         // Asked for caustics where none can form: say so, and render Whitted's image alone
         // (which is then the whole image: there is nothing for the light tracer to add).
@@ -565,9 +574,43 @@ fn resolution(
     Ok((w, h))
 }
 
+/// The scene file's `light_paths`, `paths` per pass for its own `scene_pixels`, for a render of
+/// `pixels` pixels (`--width`, `--height`): scaled with the pixel count, rounded to the nearest
+/// (at least 1), so that a render at another size keeps the light paths per pixel, and with them
+/// the noise of its caustics, as the one-per-pixel default does and as the camera samples do.
+/// Unchanged at the scene's own resolution; `--light-paths` is never scaled.
+fn light_paths_at(paths: u64, scene_pixels: u64, pixels: u64) -> anyhow::Result<u64> {
+    if pixels == scene_pixels {
+        return Ok(paths);
+    }
+    let scaled =
+        (u128::from(paths) * u128::from(pixels) + u128::from(scene_pixels / 2)) / u128::from(scene_pixels);
+    match u64::try_from(scaled.max(1)) {
+        Ok(scaled) if scaled <= MAX_LIGHT_PATHS => Ok(scaled),
+        _ => Err(anyhow!(
+            "render.light_paths = {paths} scaled to {pixels} pixels is {scaled} light paths per pass, above \
+             {MAX_LIGHT_PATHS}: pass --light-paths"
+        )),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The file's light paths per pass follow the pixel count: a quarter of the pixels, a
+    /// quarter of the paths (rounded, at least one); the scene's own resolution keeps them.
+    #[test]
+    fn scene_light_paths_scale_with_the_pixel_count() {
+        assert_eq!(light_paths_at(400_000, 360_000, 360_000).unwrap(), 400_000);
+        assert_eq!(light_paths_at(400_000, 360_000, 90_000).unwrap(), 100_000);
+        // 1000 · 7/3 = 2333.3 → 2333; 1000 · 8/3 = 2666.7 → 2667.
+        assert_eq!(light_paths_at(1000, 3, 7).unwrap(), 2333);
+        assert_eq!(light_paths_at(1000, 3, 8).unwrap(), 2667);
+        assert_eq!(light_paths_at(1, 1_000_000, 1).unwrap(), 1);
+        let too_many = light_paths_at(MAX_LIGHT_PATHS, 1, 4).unwrap_err().to_string();
+        assert!(too_many.contains("render.light_paths") && too_many.contains("--light-paths"), "{too_many}");
+    }
 
     /// `prisma` without arguments renders the showcase embedded in the binary, so that an
     /// installed or moved binary still has it (it used to be read from the build directory).
