@@ -172,9 +172,9 @@ fn resolution_flags_scale_the_scenes_light_paths() {
             .args(extra)
             .output()
             .unwrap();
-        let figures = std::fs::read_to_string(&stats)
-            .ok()
-            .map(|text| serde_json::from_str::<serde_json::Value>(&text).unwrap()["light_paths"].as_u64().unwrap());
+        let figures = std::fs::read_to_string(&stats).ok().map(|text| {
+            serde_json::from_str::<serde_json::Value>(&text).unwrap()["light_paths"].as_u64().unwrap()
+        });
         (output, figures)
     };
     // glass_sphere_spot: 720 000 light paths per pass at 800 × 450. At 40 × 23 (the height
