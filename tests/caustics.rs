@@ -155,7 +155,7 @@ fn beams_and_spots_light_diffuse_surfaces_in_whitted() {
 /// `--width` and `--height` scale the scene file's `light_paths` with the pixel count (a
 /// preview keeps the caustics' light paths per pixel, and their noise, as the camera samples
 /// do); `--light-paths` is taken as given; a scaled count above the limit is a one-line input
-/// error (exit 2, no image).
+/// error (exit 2, no image) when caustics are on, and ignored, as the count is, when they are off.
 #[test]
 fn resolution_flags_scale_the_scenes_light_paths() {
     let dir = tempfile::tempdir().unwrap();
@@ -203,4 +203,8 @@ fn resolution_flags_scale_the_scenes_light_paths() {
     assert!(stderr.contains("huge.toml") && stderr.contains("render.light_paths"), "{stderr}");
     assert_eq!(paths, None);
     assert!(!dir.path().join("image.exr").exists(), "no image after an input error");
+    // Without caustics the count is not used, so it is not refused either.
+    let (output, paths) = render(&huge_path, &["--width", "4", "--height", "2", "--no-caustics"]);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    assert_eq!(paths, Some(0));
 }

@@ -188,11 +188,12 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     }
     settings.light_paths = match (args.light_paths, settings.light_paths) {
         (Some(paths), _) => Some(paths),
-        (None, Some(paths)) => Some(
+        // Without caustics the count is unused: nothing to scale, nothing to refuse.
+        (None, Some(paths)) if settings.caustics => Some(
             light_paths_at(paths, scene_pixels, u64::from(width) * u64::from(height))
                 .map_err(|e| CliError::Input(anyhow!("{}: {e}", args.scene.display())))?,
         ),
-        (None, None) => None,
+        (None, paths) => paths,
     };
     if settings.caustics {
         // Asked for caustics where none can form: say so, and render Whitted's image alone
