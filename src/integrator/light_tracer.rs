@@ -55,11 +55,11 @@
 use glam::Vec3;
 
 use super::emission::{Cone, Emission};
-use super::{element, fresnel, rotation, Beam, Fault, TraceStats};
+use super::{element, fresnel, refraction, rotation, Beam, Fault, TraceStats};
 use crate::film::{FilmLayout, Splats};
 use crate::geometry::{spawn_origin, Hit, Ray};
 use crate::material::{Dielectric, Diffuse, Material};
-use crate::optics::{reflect, refract, DielectricFresnel};
+use crate::optics::{reflect, DielectricFresnel};
 use crate::polarization::frame::{any_perpendicular, s_axis};
 use crate::polarization::mueller::JonesDiagonal;
 use crate::polarization::Mueller;
@@ -389,27 +389,18 @@ impl<'a> LightTracer<'a> {
 
     /// The refracted direction and the Mueller matrix of a refraction with Fresnel terms `f`, or
     /// `None` under total internal reflection. Refraction carries flux: (1 − R) without the
-    /// camera side's 1/η².
+    /// camera side's 1/η² (unless the validation fault puts it back).
     fn transmission<B: Beam>(
         &self,
         dir: Vec3,
         normal: Vec3,
         f: &DielectricFresnel,
     ) -> Option<(Vec3, Mueller)> {
-        if f.reflectance >= 1.0 {
-            return None;
-        }
-        let dir_t = refract(dir, normal, 1.0 / f.eta_it)?;
-        let element = if B::POLARIZED {
-            JonesDiagonal::dielectric_transmission(f)
-        } else {
-            JonesDiagonal { a: 1.0 - f.reflectance, b: 0.0, w_re: 0.0, w_im: 0.0 }
-        };
-        let mut transmission = Mueller::splat(element);
+        let (refracted, flux) = refraction::<B>(dir, normal, f)?;
         if self.fault == Some(Fault::LightPathRadianceScaling) {
-            transmission = transmission.scaled(SampledSpectrum::splat(1.0 / (f.eta_it * f.eta_it)));
+            return Some((refracted, flux.scaled(SampledSpectrum::splat(1.0 / (f.eta_it * f.eta_it)))));
         }
-        Some((dir_t.normalize(), transmission))
+        Some((refracted, flux))
     }
 
     /// Continues a path at a dielectric along one branch, chosen with probability proportional

@@ -14,9 +14,9 @@ pub use beam::Beam;
 pub use light_tracer::LightTracer;
 pub use whitted::Whitted;
 
-use crate::optics::{fresnel_dielectric, DielectricFresnel};
+use crate::optics::{fresnel_dielectric, refract, DielectricFresnel};
 use crate::polarization::mueller::JonesDiagonal;
-use crate::polarization::Rotation;
+use crate::polarization::{Mueller, Rotation};
 
 /// Counters an integrator accumulates while tracing.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -104,4 +104,23 @@ pub(crate) fn element(fault: Option<Fault>, element: JonesDiagonal) -> JonesDiag
     } else {
         element
     }
+}
+
+/// A refraction with Fresnel terms `f` of light travelling along `dir` onto a surface with
+/// unit normal `normal`: the refracted direction and the matrix of the flux it carries (the
+/// transmittance: polarised when `B` carries Stokes vectors, averaged over s and p when not),
+/// or `None` under total internal reflection. Radiance seen through the interface is that flux
+/// times 1/η² (Whitted's side); light paths carry the flux as it is.
+#[inline(always)]
+pub(crate) fn refraction<B: Beam>(dir: Vec3, normal: Vec3, f: &DielectricFresnel) -> Option<(Vec3, Mueller)> {
+    if f.reflectance >= 1.0 {
+        return None;
+    }
+    let refracted = refract(dir, normal, 1.0 / f.eta_it)?;
+    let element = if B::POLARIZED {
+        JonesDiagonal::dielectric_transmission(f)
+    } else {
+        JonesDiagonal { a: 1.0 - f.reflectance, b: 0.0, w_re: 0.0, w_im: 0.0 }
+    };
+    Some((refracted.normalize(), Mueller::splat(element)))
 }

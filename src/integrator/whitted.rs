@@ -38,11 +38,11 @@
 
 use glam::Vec3;
 
-use super::{Beam, Fault, TraceStats};
+use super::{refraction, Beam, Fault, TraceStats};
 use crate::geometry::{spawn_origin, Hit, Ray};
 use crate::light::Light;
 use crate::material::{Dielectric, Diffuse, Material, Polarizer, Retarder};
-use crate::optics::{reflect, refract, DielectricFresnel};
+use crate::optics::{reflect, DielectricFresnel};
 use crate::polarization::frame::s_axis;
 use crate::polarization::mueller::JonesDiagonal;
 use crate::polarization::{Detector, Mueller, Rotation};
@@ -378,17 +378,8 @@ impl<'a> Whitted<'a> {
         normal: Vec3,
         f: &DielectricFresnel,
     ) -> Option<(Vec3, Mueller)> {
-        if f.reflectance >= 1.0 {
-            return None;
-        }
-        let refracted = refract(dir, normal, 1.0 / f.eta_it)?;
-        let radiance_scale = 1.0 / (f.eta_it * f.eta_it);
-        let element = if B::POLARIZED {
-            JonesDiagonal::dielectric_transmission(f)
-        } else {
-            JonesDiagonal { a: 1.0 - f.reflectance, b: 0.0, w_re: 0.0, w_im: 0.0 }
-        };
-        Some((refracted.normalize(), Mueller::splat(element).scaled(SampledSpectrum::splat(radiance_scale))))
+        let (refracted, flux) = refraction::<B>(dir, normal, f)?;
+        Some((refracted, flux.scaled(SampledSpectrum::splat(1.0 / (f.eta_it * f.eta_it)))))
     }
 
     /// A polariser or retarder met by a camera branch: the branch continues straight through,
