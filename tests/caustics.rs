@@ -177,12 +177,12 @@ fn resolution_flags_scale_the_scenes_light_paths() {
         });
         (output, figures)
     };
-    // glass_sphere_spot: 720 000 light paths per pass at 800 × 450. At 40 × 23 (the height
-    // follows the 16:9 aspect, 22.5 rounded up): 720 000 · 920 / 360 000 = 1840.
+    // glass_sphere_spot: 360 000 light paths per pass at 800 × 450. At 40 × 23 (the height
+    // follows the 16:9 aspect, 22.5 rounded up): 360 000 · 920 / 360 000 = 920.
     let spot = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/glass_sphere_spot.toml");
     let (output, paths) = render(&spot, &["--width", "40"]);
     assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
-    assert_eq!(paths, Some(1840));
+    assert_eq!(paths, Some(920));
     let (output, paths) = render(&spot, &["--width", "40", "--light-paths", "300"]);
     assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
     assert_eq!(paths, Some(300));
@@ -192,7 +192,7 @@ fn resolution_flags_scale_the_scenes_light_paths() {
     let huge = text
         .replace("width = 800", "width = 2")
         .replace("height = 450", "height = 1")
-        .replace("light_paths = 720000", "light_paths = 1099511627776");
+        .replace("light_paths = 360000", "light_paths = 1099511627776");
     let huge_path = dir.path().join("huge.toml");
     std::fs::write(&huge_path, huge).unwrap();
     std::fs::remove_file(dir.path().join("image.exr")).unwrap();
