@@ -181,7 +181,7 @@ def newton(prisma, out):
     """scenes/newton_prism.toml at 800×450: time to relMSE 1e-3 and 1e-4 (linear sRGB, bench.py's
     definition) against a long prisma render (16 spp with 4× the scene's light paths per pass,
     64× the 1-spp render's light paths), whose own noise is not subtracted (it adds about 1/64
-    of the 1-spp render's relMSE). The efforts: one pass with a quarter, a half and all of the
+    of the 1-spp render's relMSE). The efforts: one pass with 1/16, 1/8, 1/4, 1/2 and all of the
     scene's light paths, then 2, 4 and 8 passes (a pass cannot have less than one camera sample
     per pixel, so below one pass only the light paths shrink)."""
     scene = ROOT / "scenes" / "newton_prism.toml"
@@ -193,7 +193,7 @@ def newton(prisma, out):
     mi.set_variant("scalar_rgb")
     reference = rgb(long_exr)
     points = []
-    efforts = [(1, light_paths // 4), (1, light_paths // 2)] + [(spp, light_paths) for spp in (1, 2, 4, 8)]
+    efforts = [(1, light_paths // d) for d in (16, 8, 4, 2)] + [(spp, light_paths) for spp in (1, 2, 4, 8)]
     for spp, paths in efforts:
         exr, stats = out / f"newton_{spp}_{paths}.exr", out / f"newton_{spp}_{paths}.json"
         subprocess.run([prisma, "render", str(scene), "--spp", str(spp), "--light-paths", str(paths),
@@ -206,3 +206,7 @@ def newton(prisma, out):
         if error < 5e-5:
             break
     return {"points": points, "time_at_1e-3": time_at(points, 1e-3), "time_at_1e-4": time_at(points, 1e-4)}
+
+
+if __name__ == "__main__":
+    main()
