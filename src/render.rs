@@ -508,6 +508,7 @@ fn render_row<B: Beam>(
             let mut rng = PixelRng::for_sample(key, sample);
             // The position first: the sampler's first two dimensions are stratified jointly.
             let (jx, jy) = (rng.uniform(), rng.uniform());
+            // Dimension 2 (`sampler::WAVELENGTH_DIMENSION`): evenly spaced over the pixel's samples.
             let u_lambda = rng.uniform();
             let wavelengths = match job.monochromatic_nm {
                 Some(nm) => SampledWavelengths::monochromatic(nm),
