@@ -224,6 +224,10 @@ def prisma_render(prisma, scene, spp, out_dir, mode_flag):
     out = out_dir / f"prisma_{scene.stem}_{spp}{mode_flag}.exr"
     stats = out_dir / f"prisma_{scene.stem}_{spp}{mode_flag}.json"
     best = (float("inf"), float("inf"))
+    # Dr.Jit's worker threads keep a core busy for 0.1-0.2 s after Mitsuba's last render or image
+    # read in this process; a prisma render started meanwhile shares the cores with them (see
+    # SETTLE_SECONDS in caustics_bench.py). The repeats follow one another without Dr.Jit work.
+    time.sleep(0.5)
     for _ in range(timing_repeats(spp)):
         start = time.perf_counter()
         subprocess.run([prisma, "render", str(scene), "--spp", str(spp), "-o", str(out), "--quiet", "--seed",

@@ -6,12 +6,16 @@ validation/mitsuba/caustics.py) to reach relMSE 1e-3 and 1e-4 against the conver
 
 relMSE is bench.py's, mean (p − m)²/(m² + 0.01), over the pixels that see the floor directly
 (both references non-zero, eroded by one pixel), less the part the reference's own noise explains.
-Each renderer renders at doubling effort; the time at a target error is interpolated in log-log
+With --spectral, the same race on caustic_sphere_spectral (a D65 spot, a ball of constant index
+1.5) with every wavelength at once: prisma's spectral render (8 wavelengths per sample and light
+path, unpolarised) against `ptracer` in `llvm_ad_spectral`, relMSE over linear sRGB against that
+case's references. Each renderer renders at doubling effort; the time at a target error is interpolated in log-log
 between the two renders that bracket it. prisma's time is its render time (stats JSON, without
 loading and writing); Mitsuba's is the wall time of mi.render after a warm-up render of the same
 size (JIT compilation excluded). Both are the best of 3 runs of the same render (--repeat N),
 taken in rounds: each round renders all of prisma's efforts, then all of Mitsuba's, so that
-both sides share the load of a shared machine.
+both sides share the load of a shared machine. Each prisma render starts after a pause that lets
+Dr.Jit's worker threads go idle (SETTLE_SECONDS, below).
 CPU time is reported beside wall time (all threads; prisma's whole process, so with loading and
 writing; Mitsuba's process during mi.render): on a machine shared with other work it varies less
 than wall time, which is what the target is stated in.
@@ -19,6 +23,7 @@ than wall time, which is what the target is stated in.
   export DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM-19.so
   validation/.venv/bin/python validation/bench/caustics_bench.py            # ball lens vs ptracer
   validation/.venv/bin/python validation/bench/caustics_bench.py --newton   # and the Newton prism
+  validation/.venv/bin/python validation/bench/caustics_bench.py --spectral # and all wavelengths at once
   validation/.venv/bin/python validation/bench/caustics_bench.py --sampler ldsampler  # ptracer's sampler
 
 The prisma binary is $PRISMA, else target/release/prisma of this repository (translate.find_prisma).
@@ -47,7 +52,12 @@ SCENE = ROOT / "validation" / "scenes" / "caustic_sphere.toml"
 WAVELENGTH = 550.0
 # Each render is timed this many times and the best kept (--repeat N): the machine is shared.
 REPEATS = int(sys.argv[sys.argv.index("--repeat") + 1]) if "--repeat" in sys.argv else 3
-REFERENCES = [ROOT / "validation" / "references" / f"caustic_sphere_550_seed{s}.exr" for s in (1, 2)]
+# Pause before each prisma render. After any Dr.Jit work in this process (a Mitsuba render, or
+# mi.Bitmap reading the previous render's EXR) one of its worker threads keeps a core busy for
+# 0.1-0.2 s (measured: one core 50 %, then 35 % busy in the next two 100 ms windows); a prisma
+# render started meanwhile shares the 2 cores with it and took 1.4-1.7x its time (4 spp: 0.027-0.045 s
+# against 0.017-0.022 s after a pause). Mitsuba's own renders follow its own work and are not paused.
+SETTLE_SECONDS = 0.5
 
 
 def load(path):
@@ -91,36 +101,59 @@ def time_at(points, target):
     return None
 
 
-def main():
-    mi.set_variant("scalar_rgb")
-    first, second = (load(p) for p in REFERENCES)
-    reference = 0.5 * (first + second)
-    mask = erode((first > 0) & (second > 0))
-    noise = float(np.mean(((first - second) ** 2 / 4.0 / (reference ** 2 + 1e-2))[mask]))
-    results = {"reference_noise_relmse": noise, "pixels": int(mask.sum()), "repeats": REPEATS}
+class Case:
+    """One race: a scene, its two Mitsuba references (seeds 1 and 2), and how each side renders it."""
 
-    prisma = translate.find_prisma()
-    out = pathlib.Path(tempfile.mkdtemp(prefix="caustics_bench_"))
+    def __init__(self, name, scene, wavelength, variant):
+        self.name, self.scene, self.wavelength, self.variant = name, scene, wavelength, variant
+        self.references = [ROOT / "validation" / "references" / f"{name}_seed{s}.exr" for s in (1, 2)]
+
+    def image(self, path):
+        """A render as the references hold it: Y (monochromatic) or linear sRGB."""
+        return load(path) if self.wavelength is not None else rgb(path)
+
+
+# The ball lens of the issue: one wavelength, Mitsuba in a mono variant.
+MONO = Case("caustic_sphere_550", SCENE, WAVELENGTH, "llvm_ad_mono")
+# The same ball of constant index 1.5 (Mitsuba cannot disperse) lit by D65, every wavelength at
+# once: prisma as users run it (8 wavelengths per camera sample and light path), Mitsuba in
+# llvm_ad_spectral (4 wavelengths per path, as it is built).
+SPECTRAL = Case("caustic_sphere_spectral", ROOT / "validation" / "scenes" / "caustic_sphere_spectral.toml", None,
+                "llvm_ad_spectral")
+
+
+def race(case, prisma, out, sampler):
+    """Times prisma and Mitsuba's ptracer on `case` at doubling effort: the results dict."""
+    mi.set_variant("scalar_rgb")
+    first, second = (case.image(p) for p in case.references)
+    reference = 0.5 * (first + second)
+    positive = (first > 0) & (second > 0)
+    mask = erode(positive if positive.ndim == 2 else positive.all(axis=-1))
+    noise = float(np.mean(((first - second) ** 2 / 4.0 / (reference ** 2 + 1e-2))[mask]))
+    results = {"case": case.name, "reference_noise_relmse": noise, "pixels": int(mask.sum()), "repeats": REPEATS}
+    mode = ["--wavelength", str(case.wavelength)] if case.wavelength is not None else []
 
     def render_prisma(spp):
         """One prisma render: (render seconds, CPU seconds of the process, relMSE)."""
-        exr, stats = out / f"prisma_{spp}.exr", out / f"prisma_{spp}.json"
+        exr, stats = out / f"{case.name}_prisma_{spp}.exr", out / f"{case.name}_prisma_{spp}.json"
+        time.sleep(SETTLE_SECONDS)
         before = children_cpu()
-        # Unpolarised, as Mitsuba's plain variant and the references.
-        subprocess.run([prisma, "render", str(SCENE), "--wavelength", str(WAVELENGTH), "--spp", str(spp),
-                        "--unpolarized", "--seed", "17", "-o", str(exr), "--quiet", "--stats", str(stats)],
-                       check=True)
+        # Unpolarised, as Mitsuba's plain variants and the references.
+        subprocess.run([prisma, "render", str(case.scene), *mode, "--spp", str(spp), "--unpolarized", "--seed",
+                        "17", "-o", str(exr), "--quiet", "--stats", str(stats)], check=True)
         cpu = children_cpu() - before
         seconds = json.loads(stats.read_text())["render_seconds"]
-        return seconds, cpu, rel_mse(load(exr), reference, mask) - noise
+        return seconds, cpu, rel_mse(case.image(exr), reference, mask) - noise
 
-    mi.set_variant("llvm_ad_mono")
+    mi.set_variant(case.variant)
     import caustics
     caustics.register_receiver()
-    scene = translate.PrismaScene.load(SCENE, out / "export", prisma)
-    translator = caustics.CausticTranslator(scene, WAVELENGTH)
-    sampler = sys.argv[sys.argv.index("--sampler") + 1] if "--sampler" in sys.argv else "independent"
+    # Mitsuba's spectral film needs the references' correction of its Y normalisation.
+    fix = caustics.y_normalisation_fix()[0] if mi.is_spectral else 1.0
+    scene = translate.PrismaScene.load(case.scene, out / f"{case.name}_export", prisma)
+    translator = caustics.CausticTranslator(scene, case.wavelength)
     results["mitsuba_sampler"] = sampler
+    results["mitsuba_variant"] = case.variant
     mitsuba_scenes = {}
 
     def render_mitsuba(spp):
@@ -132,8 +165,8 @@ def main():
         start, start_cpu = time.perf_counter(), time.process_time()
         image = np.array(mi.render(mitsuba_scenes[spp], spp=spp, seed=2), dtype=np.float64)
         seconds, cpu = time.perf_counter() - start, time.process_time() - start_cpu
-        image = image[..., 0] if image.ndim == 3 else image
-        return seconds, cpu, rel_mse(image, reference, mask) - noise
+        image = (image[..., 0] if image.ndim == 3 else image) if case.wavelength is not None else image[..., :3]
+        return seconds, cpu, rel_mse(fix * image, reference, mask) - noise
 
     # The first round finds each side's renders (doubling effort until relMSE < 5e-5; Mitsuba from
     # 4 spp, so that its time at relMSE 1e-3 is bracketed too) and their errors, which the same
@@ -152,12 +185,12 @@ def main():
                 previous = best[name].get(spp, (math.inf, math.inf, error))
                 best[name][spp] = (min(previous[0], seconds), min(previous[1], cpu), error)
                 if round_ == 0:
-                    print(f"{name} {spp} spp: relMSE {error:.3e}", flush=True)
+                    print(f"{case.name}: {name} {spp} spp: relMSE {error:.3e}", flush=True)
                     if error < 5e-5:
                         break
     for name in sides:
         for spp, (seconds, cpu, error) in best[name].items():
-            print(f"{name} {spp} spp: {seconds:.3f} s ({cpu:.3f} CPU s), relMSE {error:.3e}")
+            print(f"{case.name}: {name} {spp} spp: {seconds:.3f} s ({cpu:.3f} CPU s), relMSE {error:.3e}")
         results[name] = [(seconds, error) for seconds, _, error in best[name].values()]
         results[f"{name}_cpu"] = [(cpu, error) for _, cpu, error in best[name].values()]
     for target in (1e-3, 1e-4):
@@ -165,10 +198,20 @@ def main():
         cp, cm = time_at(results["prisma_cpu"], target), time_at(results["mitsuba_cpu"], target)
         ratio = f"{tm / tp:.1f}x" if tp and tm else "n/a"
         cpu_ratio = f"{cm / cp:.1f}x" if cp and cm else "n/a"
-        print(f"relMSE {target:g}: prisma {tp} s, Mitsuba {tm} s, prisma faster by {ratio}; "
+        print(f"{case.name}: relMSE {target:g}: prisma {tp} s, Mitsuba {tm} s, prisma faster by {ratio}; "
               f"CPU time: prisma {cp} s, Mitsuba {cm} s, {cpu_ratio}")
         results[f"time_at_{target:g}"] = {"prisma_s": tp, "mitsuba_s": tm, "prisma_cpu_s": cp,
                                           "mitsuba_cpu_s": cm}
+    return results
+
+
+def main():
+    prisma = translate.find_prisma()
+    out = pathlib.Path(tempfile.mkdtemp(prefix="caustics_bench_"))
+    sampler = sys.argv[sys.argv.index("--sampler") + 1] if "--sampler" in sys.argv else "independent"
+    results = race(MONO, prisma, out, sampler)
+    if "--spectral" in sys.argv:
+        results["spectral"] = race(SPECTRAL, prisma, out, sampler)
     if "--newton" in sys.argv:
         results["newton"] = newton(prisma, out)
         print(f"newton: relMSE 1e-3 after {results['newton']['time_at_1e-3']} s, "
@@ -196,6 +239,7 @@ def newton(prisma, out):
     efforts = [(1, light_paths // d) for d in (16, 8, 4, 2)] + [(spp, light_paths) for spp in (1, 2, 4, 8)]
     for spp, paths in efforts:
         exr, stats = out / f"newton_{spp}_{paths}.exr", out / f"newton_{spp}_{paths}.json"
+        time.sleep(SETTLE_SECONDS)
         subprocess.run([prisma, "render", str(scene), "--spp", str(spp), "--light-paths", str(paths),
                         "--seed", "5", "-o", str(exr), "--quiet", "--stats", str(stats)], check=True)
         image = rgb(exr)
