@@ -42,12 +42,24 @@
 //! the number of light paths traced ([`crate::film::SplatSums::add_to`]).
 //!
 //! # Branches at glass
-//! A path meeting glass continues along **one** branch, reflected or refracted, chosen with
-//! probability proportional to each branch's flux (summed over the lanes), and divided by that
-//! probability: unbiased, and a path stays one path (until dispersion splits it by lane); through
-//! lossless glass it keeps its flux exactly. Tracing both branches, as Whitted does, took 3× the
-//! rays for 2.3× less variance over a ball lens's caustic: 1.25× worse at equal time (it won
-//! only in the focus's brightest pixels; validation/README.md).
+//! Where a path meets glass straight from its light (its first interaction), it **traces both
+//! branches**, the reflected one with the Fresnel reflectance and the refracted one with the
+//! transmittance. Everywhere after, it continues along **one** branch, reflected or refracted,
+//! chosen with probability proportional to each branch's flux (summed over the lanes), and
+//! divided by that probability: unbiased, and a path stays one path (until dispersion splits it
+//! by lane); through lossless glass it keeps its flux exactly.
+//!
+//! Why the first interface differs: the light glass reflects straight from the light is spread
+//! thin over the receiver (a ball reflects a spot over the whole floor around it), and chosen
+//! with probability R ≈ 0.05–0.1 it reached each pixel as a rare photon of the full flux; at
+//! relMSE 1e-3 on the caustic bench's ball half the error sat in those pixels. Splitting there
+//! gives every path that meets glass a reflected child. Measured at equal spp (render time,
+//! relMSE against long renders, 1–16 spp; validation/bench/RESULTS.md): the bench's ball lens
+//! 1.1–1.25× the time for 0.66–0.73× the error, `glass_sphere_spot` 1.1–1.3× for 0.62–0.78×,
+//! the Newton prism 1.0–1.07× for 0.74–0.88×, `tp6_mirror_glass_caustics` (whose error is
+//! mostly its camera side's) 1.07–1.08× for 0.96×. Splitting at the second interface too cost more than it gained on the ball;
+//! splitting at every interface, as Whitted does, took 3× the rays for 2.3× less variance over
+//! the ball's caustic, 1.25× worse at equal time (validation/README.md).
 //!
 //! Depth is capped at `max_depth` interactions with mirrors, glass and sheets, and paths whose
 //! flux falls below `prune_below` of their starting value go through Russian roulette.
@@ -172,8 +184,9 @@ impl<'a> LightTracer<'a> {
         // The direction (or a beam's position) first: the sampler stratifies dimensions 0 and 1
         // jointly over all the render's light paths. Then only the choices this path has (the
         // wavelengths unless monochromatic, the light among several...), so that in a
-        // monochromatic render with one light the first Fresnel choices take dimensions 2 and 3,
-        // stratified with the direction.
+        // monochromatic render with one light the first Fresnel choices (after the first
+        // interface, which traces both branches) take dimensions 2 and 3, stratified with the
+        // direction.
         let u_dir = (rng.uniform(), rng.uniform());
         let wavelengths = match self.monochromatic_nm {
             Some(nm) => SampledWavelengths::monochromatic(nm),
@@ -312,8 +325,9 @@ impl<'a> LightTracer<'a> {
         });
     }
 
-    /// A dielectric: Beer–Lambert over the segment just crossed inside, then one Fresnel branch,
-    /// chosen by flux; a dispersive refraction continues every live lane on its own direction.
+    /// A dielectric: Beer–Lambert over the segment just crossed inside, then both Fresnel
+    /// branches at the path's first interaction, one chosen by flux after; a dispersive
+    /// refraction continues every live lane on its own direction.
     #[allow(clippy::too_many_arguments)] // the path's state, passed flat
     fn dielectric<B: Beam>(
         &self,
@@ -403,9 +417,11 @@ impl<'a> LightTracer<'a> {
         Some((refracted, flux))
     }
 
-    /// Continues a path at a dielectric along one branch, chosen with probability proportional
-    /// to its flux (summed over the lanes) and divided by that probability: `reflected`, or all
-    /// of `refracted` (one entry per lane that refracts on its own direction, or one for all).
+    /// Continues a path at a dielectric: at its first interaction along both branches,
+    /// `reflected` and all of `refracted` (one entry per lane that refracts on its own
+    /// direction, or one for all), each with its own flux; after that along one of the two,
+    /// chosen with probability proportional to its flux (summed over the lanes) and divided by
+    /// that probability (module docs, "Branches at glass").
     fn choose_branch<B: Beam>(
         &self,
         at: &Branches<B>,
@@ -419,6 +435,13 @@ impl<'a> LightTracer<'a> {
         let refracted_flux: f32 = refracted.iter().flatten().map(|(_, beam)| total(beam)).sum();
         let all = reflected_flux + refracted_flux;
         if all.is_nan() || all <= 0.0 {
+            return;
+        }
+        if at.photon.depth == 0 {
+            self.push(scratch, at.hit, at.out, at.frame_x, reflected, at.photon, true, at.reference, rng);
+            for (dir_t, beam) in refracted.iter().flatten() {
+                self.push(scratch, at.hit, *dir_t, at.frame_x, *beam, at.photon, true, at.reference, rng);
+            }
             return;
         }
         let p_reflect = reflected_flux / all;
