@@ -9,7 +9,9 @@ relMSE is bench.py's, mean (p − m)²/(m² + 0.01), over the pixels that see th
 With --spectral, the same race on caustic_sphere_spectral (a D65 spot, a ball of constant index
 1.5) with every wavelength at once: prisma's spectral render (8 wavelengths per sample and light
 path, unpolarised) against `ptracer` in `llvm_ad_spectral`, relMSE over linear sRGB against that
-case's references. Each renderer renders at doubling effort; the time at a target error is interpolated in log-log
+case's references.
+
+Each renderer renders at doubling effort; the time at a target error is interpolated in log-log
 between the two renders that bracket it. prisma's time is its render time (stats JSON, without
 loading and writing); Mitsuba's is the wall time of mi.render after a warm-up render of the same
 size (JIT compilation excluded). Both are the best of 3 runs of the same render (--repeat N),
@@ -54,9 +56,10 @@ WAVELENGTH = 550.0
 REPEATS = int(sys.argv[sys.argv.index("--repeat") + 1]) if "--repeat" in sys.argv else 3
 # Pause before each prisma render. After any Dr.Jit work in this process (a Mitsuba render, or
 # mi.Bitmap reading the previous render's EXR) one of its worker threads keeps a core busy for
-# 0.1-0.2 s (measured: one core 50 %, then 35 % busy in the next two 100 ms windows); a prisma
-# render started meanwhile shares the 2 cores with it and took 1.4-1.7x its time (4 spp: 0.027-0.045 s
-# against 0.017-0.022 s after a pause). Mitsuba's own renders follow its own work and are not paused.
+# 0.1-0.2 s (measured: the system 52 %, then 35 % busy in the next two 100 ms windows); a
+# prisma render started meanwhile shares the 2 cores with it and took 1.4-1.7x its time (4 spp:
+# 0.027-0.045 s against 0.017-0.022 s after a pause). Mitsuba's own renders follow its own work
+# and are not paused.
 SETTLE_SECONDS = 0.5
 
 
