@@ -56,11 +56,11 @@
 //! gives every path that meets glass a reflected child. Measured at equal spp (render time,
 //! relMSE against long renders, 1–16 spp; validation/bench/RESULTS.md): the bench's ball lens
 //! 1.1–1.25× the time for 0.66–0.73× the error, `glass_sphere_spot` 1.1–1.3× for 0.62–0.78×,
-//! the Newton prism 1.0–1.07× for 0.74–0.88×, `tp6_mirror_glass_caustics` (whose error is
-//! mostly its camera side's) 1.07–1.08× for 0.96×. Splitting at the second interface too cost
-//! more than it gained on the ball; splitting at every interface, as Whitted does, took 3× the
-//! rays for 2.3× less variance over the ball's caustic, 1.25× worse at equal time
-//! (validation/README.md).
+//! the Newton prism 1.0–1.07× for 0.74–0.88×; `tp6_mirror_glass_caustics`, whose error is
+//! mostly its camera side's, 1.07–1.16× for 0.96× (a loss of 5–12 % at equal error, the price
+//! of a rule without a setting). Splitting at the second interface too cost more than it gained
+//! on the ball; splitting at every interface, as Whitted does, took 3× the rays for 2.3× less
+//! variance over the ball's caustic, 1.25× worse at equal time (validation/README.md).
 //!
 //! Depth is capped at `max_depth` interactions with mirrors, glass and sheets, and paths whose
 //! flux falls below `prune_below` of their starting value go through Russian roulette.
