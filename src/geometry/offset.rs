@@ -52,11 +52,7 @@ pub fn spawn_origin(point: Vec3, normal: Vec3, dir: Vec3) -> Vec3 {
     // Bound on the error of `point` projected on the normal: Σ |n_i|·γ(2)·|p_i|.
     let distance = normal.abs().dot(point.abs() * gamma(POINT_ROUNDINGS));
     let pushed = point + distance * side;
-    Vec3::new(
-        push_coordinate(pushed.x, side.x),
-        push_coordinate(pushed.y, side.y),
-        push_coordinate(pushed.z, side.z),
-    )
+    push_coordinates(pushed, side)
 }
 
 /// Where a pushed coordinate that would be subnormal or zero goes instead, to the side of the
@@ -73,14 +69,68 @@ pub fn spawn_origin(point: Vec3, normal: Vec3, dir: Vec3) -> Vec3 {
 /// smaller than the push at a coordinate of 1.
 pub const MIN_PUSHED_COORDINATE: f32 = 1.0 / (1u64 << 40) as f32;
 
-/// `value` moved to the next float in the direction of the sign of `direction` (unchanged when
-/// `direction` is zero), so that the push survives the rounding of `point + distance·side`;
-/// where that next float is subnormal or zero (from ±0 and the smallest normals), to
-/// ±[`MIN_PUSHED_COORDINATE`] instead, farther to the same side.
+/// Each coordinate of `value` moved to the next float in the direction of the sign of the same
+/// coordinate of `direction` (unchanged where that is zero or NaN), so that the push survives the
+/// rounding of `point + distance·side`; where that next float is subnormal or zero (from ±0 and
+/// the smallest normals), to ±[`MIN_PUSHED_COORDINATE`] instead, farther to the same side.
 ///
-/// For finite `value` the step is `next_up` / `next_down`, written on the bits without branches
-/// (the standard functions also handle NaN and infinities, which a hit point never is): away
-/// from zero the magnitude grows by one unit in the last place, towards zero it shrinks by one.
+/// For finite coordinates the step is `next_up` / `next_down`, written on the bits without
+/// branches (the standard functions also handle NaN and infinities, which a hit point never
+/// is): away from zero the magnitude grows by one unit in the last place, towards zero it
+/// shrinks by one. On x86-64 the three coordinates go through SSE2 lanes together (the scalar
+/// form took about 70 instructions of spawn_origin's 100, and spawn_origin 6 % of a caustic
+/// render's); elsewhere one by one. Both give the same bits (tested against `next_up` and
+/// `next_down`).
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn push_coordinates(value: Vec3, direction: Vec3) -> Vec3 {
+    use std::arch::x86_64::{
+        __m128, __m128i, _mm_add_epi32, _mm_and_si128, _mm_andnot_si128, _mm_castps_si128, _mm_castsi128_ps,
+        _mm_cmpeq_ps, _mm_cmplt_epi32, _mm_cmpunord_ps, _mm_or_ps, _mm_or_si128, _mm_set1_epi32,
+        _mm_setzero_ps, _mm_srai_epi32, _mm_xor_si128,
+    };
+    // SAFETY: SSE2 is part of the x86-64 baseline, so these intrinsics exist on every x86-64
+    // CPU; they compute on registers only (no memory access).
+    let out = unsafe {
+        // Lanes x, y, z, and a fourth that the conversion back to Vec3 drops.
+        let value: __m128 = glam::Vec3A::from(value).into();
+        let direction: __m128 = glam::Vec3A::from(direction).into();
+        let (bits, direction_bits) = (_mm_castps_si128(value), _mm_castps_si128(direction));
+        let select = |mask: __m128i, yes: __m128i, no: __m128i| {
+            _mm_or_si128(_mm_and_si128(mask, yes), _mm_andnot_si128(mask, no))
+        };
+        // +1 where the signs agree (the magnitude grows), −1 where they differ.
+        let step = _mm_or_si128(_mm_srai_epi32::<31>(_mm_xor_si128(bits, direction_bits)), _mm_set1_epi32(1));
+        let stepped = _mm_add_epi32(bits, step);
+        let magnitude = _mm_and_si128(stepped, _mm_set1_epi32(i32::MAX));
+        let subnormal = _mm_cmplt_epi32(magnitude, _mm_set1_epi32(f32::MIN_POSITIVE.to_bits() as i32));
+        let zero = _mm_castps_si128(_mm_cmpeq_ps(value, _mm_setzero_ps()));
+        let floor = _mm_or_si128(
+            _mm_set1_epi32(MIN_PUSHED_COORDINATE.to_bits() as i32),
+            _mm_and_si128(direction_bits, _mm_set1_epi32(i32::MIN)),
+        );
+        let pushed = select(_mm_or_si128(subnormal, zero), floor, stepped);
+        let keep =
+            _mm_or_ps(_mm_cmpeq_ps(direction, _mm_setzero_ps()), _mm_cmpunord_ps(direction, direction));
+        let out = select(_mm_castps_si128(keep), bits, pushed);
+        _mm_castsi128_ps(out)
+    };
+    Vec3::from(glam::Vec3A::from(out))
+}
+
+/// [`push_coordinates`] one coordinate at a time, where SSE2 is not there.
+#[cfg(not(target_arch = "x86_64"))]
+#[inline(always)]
+fn push_coordinates(value: Vec3, direction: Vec3) -> Vec3 {
+    Vec3::new(
+        push_coordinate(value.x, direction.x),
+        push_coordinate(value.y, direction.y),
+        push_coordinate(value.z, direction.z),
+    )
+}
+
+/// One coordinate of [`push_coordinates`].
+#[cfg(not(target_arch = "x86_64"))]
 #[inline(always)]
 fn push_coordinate(value: f32, direction: f32) -> f32 {
     debug_assert!(value.is_finite(), "pushing a non-finite coordinate {value}");
@@ -156,13 +206,38 @@ mod tests {
                 next
             }
         };
+        // Each value in each lane, the other two lanes moving other ways (up, down, or kept by a
+        // zero or NaN direction), so that a lane mixed up with another would show.
+        let push_in = |lane: usize, value: f32, direction: f32| {
+            let mut values = Vec3::new(1.5, -2.5, 0.25);
+            let mut directions = Vec3::new(-1.0, 0.0, f32::NAN);
+            values[lane] = value;
+            directions[lane] = direction;
+            let out = push_coordinates(values, directions);
+            for other in (0..3).filter(|&other| other != lane) {
+                let expected_other = match other {
+                    0 => 1.5f32.next_down(),
+                    1 => -2.5,
+                    _ => 0.25,
+                };
+                assert_eq!(out[other].to_bits(), expected_other.to_bits(), "lane {other} beside {value:e}");
+            }
+            out[lane]
+        };
         for value in values {
-            let up = push_coordinate(value, 1.0);
-            assert_eq!(up.to_bits(), expected(value.next_up(), 1.0).to_bits(), "up from {value:e}");
-            let down = push_coordinate(value, -2.0);
-            assert_eq!(down.to_bits(), expected(value.next_down(), -2.0).to_bits(), "down from {value:e}");
-            assert_eq!(push_coordinate(value, 0.0).to_bits(), value.to_bits());
-            assert_eq!(push_coordinate(value, -0.0).to_bits(), value.to_bits());
+            for lane in 0..3 {
+                let up = push_in(lane, value, 1.0);
+                assert_eq!(up.to_bits(), expected(value.next_up(), 1.0).to_bits(), "up from {value:e}");
+                let down = push_in(lane, value, -2.0);
+                assert_eq!(
+                    down.to_bits(),
+                    expected(value.next_down(), -2.0).to_bits(),
+                    "down from {value:e}"
+                );
+                assert_eq!(push_in(lane, value, 0.0).to_bits(), value.to_bits());
+                assert_eq!(push_in(lane, value, -0.0).to_bits(), value.to_bits());
+                assert_eq!(push_in(lane, value, f32::NAN).to_bits(), value.to_bits());
+            }
         }
     }
 
