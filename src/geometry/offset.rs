@@ -89,6 +89,7 @@ fn push_coordinates(value: Vec3, direction: Vec3) -> Vec3 {
         _mm_cmpeq_ps, _mm_cmplt_epi32, _mm_cmpunord_ps, _mm_or_ps, _mm_or_si128, _mm_set1_epi32,
         _mm_setzero_ps, _mm_srai_epi32, _mm_xor_si128,
     };
+    debug_assert!(value.is_finite(), "pushing a non-finite point {value}");
     // SAFETY: SSE2 is part of the x86-64 baseline, so these intrinsics exist on every x86-64
     // CPU; they compute on registers only (no memory access).
     let out = unsafe {
