@@ -54,12 +54,13 @@ pub struct PixelRng {
 }
 
 /// What the samples of one pixel under one seed share: the key their scrambles derive from,
-/// and the scramble seed of the pixel's first Sobol sequence (samples 0 to 2¹⁶ − 1), so that a
-/// render hashes once per pixel rather than once per sample.
+/// and the scramble seed and wavelength shift of the pixel's first Sobol sequence (samples 0 to
+/// 2¹⁶ − 1), so that a render hashes once per pixel rather than once per sample.
 #[derive(Clone, Copy, Debug)]
 pub struct PixelKey {
     key: u64,
     first_sequence_seed: u32,
+    first_wavelength_shift: u32,
 }
 
 impl PixelKey {
@@ -67,7 +68,8 @@ impl PixelKey {
     pub fn new(seed: u64, x: u32, y: u32) -> Self {
         let pixel = (u64::from(y) << 32) | u64::from(x);
         let key = mix64(mix64(seed ^ 0x51_7cc1_b727_220a) ^ pixel);
-        Self { key, first_sequence_seed: Self::sequence_seed(key, 0) }
+        let first_sequence_seed = Self::sequence_seed(key, 0);
+        Self { key, first_sequence_seed, first_wavelength_shift: wavelength_shift(first_sequence_seed) }
     }
 
     /// The scramble seed of the pixel's sequence number `sequence` (samples from
@@ -88,10 +90,14 @@ impl PixelRng {
     #[inline]
     pub fn for_sample(key: PixelKey, sample: u32) -> Self {
         let sequence = sample / SEQUENCE_POINTS;
-        let sequence_seed =
-            if sequence == 0 { key.first_sequence_seed } else { PixelKey::sequence_seed(key.key, sequence) };
+        let (sequence_seed, shift) = if sequence == 0 {
+            (key.first_sequence_seed, key.first_wavelength_shift)
+        } else {
+            let sequence_seed = PixelKey::sequence_seed(key.key, sequence);
+            (sequence_seed, wavelength_shift(sequence_seed))
+        };
         let index = sample % SEQUENCE_POINTS;
-        Self { index, sequence_seed, group: 0, values: first_group(index, sequence_seed), used: 0 }
+        Self { index, sequence_seed, group: 0, values: first_group(index, sequence_seed, shift), used: 0 }
     }
 
     /// The next dimension's value, uniform in [0, 1).
@@ -113,15 +119,20 @@ impl PixelRng {
 /// The dimension that [`crate::render`] takes for the wavelengths of a camera sample.
 pub const WAVELENGTH_DIMENSION: usize = 2;
 
+/// The random XOR mask of the wavelength dimension of the pixel sequence under `sequence_seed`.
+fn wavelength_shift(sequence_seed: u32) -> u32 {
+    sobol_burley::parts::hash(sequence_seed ^ 0x5bd1_e995)
+}
+
 /// Dimensions 0–3 of point `index` of a pixel's Sobol sequence under `sequence_seed`: the
 /// sequence in its own order (not shuffled), dimensions 0, 1 and 3 Owen-scrambled as
-/// `sobol_burley` scrambles them, and the wavelength dimension digitally shifted (one random
-/// XOR mask per pixel) instead, so that the first 2^m samples of a pixel take it on an exactly
+/// `sobol_burley` scrambles them, and the wavelength dimension digitally shifted by `shift`
+/// ([`wavelength_shift`] of the seed: one random XOR mask per pixel) instead, so that the first 2^m samples of a pixel take it on an exactly
 /// evenly spaced grid (the unscrambled dimension's values are the multiples of 2^−m, and the
 /// mask moves them all by the same amount below 2^−m), while the three stay one Sobol net, the
 /// wavelength stratified jointly with the position. See the module notes.
-fn first_group(index: u32, sequence_seed: u32) -> [f32; GROUP] {
-    use sobol_burley::parts::{hash, hash_int4, owen_scramble_int4_rev, sobol_int4_rev, sobol_rev, Int4};
+fn first_group(index: u32, sequence_seed: u32, shift: u32) -> [f32; GROUP] {
+    use sobol_burley::parts::{hash_int4, owen_scramble_int4_rev, sobol_int4_rev, sobol_rev, Int4};
     let index_rev = index.reverse_bits();
     // The scrambles `sobol_burley::sample_4d` derives for dimensions 0–3 of this seed.
     let seed: Int4 = [sequence_seed.wrapping_mul(0x9c8f_2d3b); GROUP].into();
@@ -129,7 +140,6 @@ fn first_group(index: u32, sequence_seed: u32) -> [f32; GROUP] {
     let mut values = owen_scramble_int4_rev(sobol_int4_rev(index_rev, 0), hash_int4(scramble))
         .reverse_bits()
         .to_f32_norm();
-    let shift = hash(sequence_seed ^ 0x5bd1_e995);
     values[WAVELENGTH_DIMENSION] = sobol_burley::parts::u32_to_f32_norm(
         sobol_rev(index_rev, WAVELENGTH_DIMENSION as u32).reverse_bits() ^ shift,
     );
