@@ -360,7 +360,7 @@ fn aimed(cones: impl Iterator<Item = Option<Cone>>, own: f32, spot: Option<&Spot
         if let Some(spot) = spot {
             // Disjoint when the angle between the axes exceeds the sum of the half-angles.
             let between = spot.axis.dot(cone.axis).clamp(-1.0, 1.0).acos();
-            if between >= spot.cutoff_rad + cone.cos_half.clamp(-1.0, 1.0).acos() {
+            if between >= spot.cutoff_rad() + cone.cos_half.clamp(-1.0, 1.0).acos() {
                 continue;
             }
         }

@@ -761,13 +761,13 @@ impl Builder<'_> {
                 let intensity =
                     self.spectrum(intensity, Role::Emission, span.clone(), &format!("{at}.intensity"))?;
                 self.emits(&intensity, span, &format!("{at}.intensity"))?;
-                Light::Spot(SpotLight {
+                Light::Spot(SpotLight::new(
                     position,
-                    axis: axis.normalize(),
+                    axis.normalize(),
                     intensity,
-                    cutoff_rad: cutoff_deg.to_radians(),
-                    beam_width_rad: beam_width_deg.to_radians(),
-                })
+                    cutoff_deg.to_radians(),
+                    beam_width_deg.to_radians(),
+                ))
             }
             LightDesc::Beam { corner, edge1, edge2, irradiance, emit } => {
                 let quad = self.quad(*corner, *edge1, *edge2, span.clone(), &at)?;
