@@ -31,6 +31,12 @@ pub struct Camera {
     up: Vec3,
     width: u32,
     height: u32,
+    /// |`right_scaled`|², |`up_scaled`|² and a pixel's area on the image plane at unit
+    /// distance: what [`Self::project`] divides by for every light path that reaches a
+    /// diffuse surface, computed once ([`Self::with_projection`]).
+    right_sq: f32,
+    up_sq: f32,
+    pixel_area: f32,
 }
 
 /// A point seen by the camera, as [`Camera::project`] finds it.
@@ -105,7 +111,19 @@ impl Camera {
             up: true_up,
             width,
             height,
-        })
+            right_sq: 0.0,
+            up_sq: 0.0,
+            pixel_area: 0.0,
+        }
+        .with_projection())
+    }
+
+    /// The camera with [`Self::project`]'s constants computed from its axes and resolution.
+    fn with_projection(self) -> Self {
+        let (right_sq, up_sq) = (self.right_scaled.length_squared(), self.up_scaled.length_squared());
+        // A pixel's solid angle at the film centre: its area on the image plane at unit distance.
+        let pixel_area = 4.0 * (right_sq * up_sq).sqrt() / (self.width as f32 * self.height as f32);
+        Self { right_sq, up_sq, pixel_area, ..self }
     }
 
     /// The same camera with another resolution (the field of view stays vertical).
@@ -120,7 +138,8 @@ impl Camera {
             width,
             height,
             ..self.clone()
-        })
+        }
+        .with_projection())
     }
 
     /// Image width in pixels.
@@ -151,9 +170,8 @@ impl Camera {
         if !(depth > 0.0 && distance_sq.is_finite()) {
             return None;
         }
-        let (right_sq, up_sq) = (self.right_scaled.length_squared(), self.up_scaled.length_squared());
-        let ndc_x = offset.dot(self.right_scaled) / (depth * right_sq);
-        let ndc_y = offset.dot(self.up_scaled) / (depth * up_sq);
+        let ndc_x = offset.dot(self.right_scaled) / (depth * self.right_sq);
+        let ndc_y = offset.dot(self.up_scaled) / (depth * self.up_sq);
         let x = (ndc_x + 1.0) * 0.5 * self.width as f32;
         let y = (1.0 - ndc_y) * 0.5 * self.height as f32;
         if !(x >= 0.0 && x < self.width as f32 && y >= 0.0 && y < self.height as f32) {
@@ -161,13 +179,11 @@ impl Camera {
         }
         let distance = distance_sq.sqrt();
         let cos_theta = depth / distance;
-        // A pixel's solid angle at the film centre: its area on the image plane at unit distance.
-        let pixel_area = 4.0 * (right_sq * up_sq).sqrt() / (self.width as f32 * self.height as f32);
         Some(FilmPoint {
             pixel: (x as u32).min(self.width - 1) + (y as u32).min(self.height - 1) * self.width,
             to_camera: -offset / distance,
             distance,
-            sensitivity: 1.0 / (distance_sq * pixel_area * cos_theta * cos_theta * cos_theta),
+            sensitivity: 1.0 / (distance_sq * self.pixel_area * cos_theta * cos_theta * cos_theta),
         })
     }
 

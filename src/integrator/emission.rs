@@ -116,6 +116,10 @@ fn sample_cones(cones: &[Cone], total: f32, next: &mut impl FnMut() -> f32, u: (
         }
     }
     let dir = chosen.sample(u);
+    if cones.len() == 1 {
+        // What cones_pdf gives for one cone, whether or not rounding leaves `dir` in it.
+        return (dir, 1.0 / total);
+    }
     (dir, cones_pdf(cones, total, dir))
 }
 

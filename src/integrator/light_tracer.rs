@@ -348,9 +348,9 @@ impl<'a> LightTracer<'a> {
         };
         let normal = hit.shading_normal;
         let cos_theta_i = -dir.dot(normal);
-        let strength = flux.components()[0];
-        let live: [bool; N_LAMBDA] = std::array::from_fn(|i| strength[i] > 0.0);
-        let live_count = live.iter().filter(|&&l| l).count();
+        // The lanes still carrying light, as bits (lane i: bit i).
+        let live = flux.components()[0].positive_lanes();
+        let live_count = live.count_ones();
         if live_count == 0 {
             return;
         }
@@ -365,7 +365,7 @@ impl<'a> LightTracer<'a> {
         if !dielectric.ior.is_dispersive() || live_count == 1 {
             // One index for every live lane: one Fresnel evaluation and one refracted direction
             // (the common case, kept free of per-lane arrays).
-            let first_live = live.iter().position(|&l| l).unwrap_or(0);
+            let first_live = live.trailing_zeros() as usize;
             let f = fresnel_at(first_live);
             let reflection = if B::POLARIZED {
                 Mueller::splat(element(self.fault, JonesDiagonal::dielectric_reflection(cos_theta_i, &f)))
@@ -394,7 +394,7 @@ impl<'a> LightTracer<'a> {
             Mueller::attenuation(SampledSpectrum { values: fresnels.map(|f| f.reflectance) })
         };
         let mut refracted: [Option<(Vec3, B)>; N_LAMBDA] = [None; N_LAMBDA];
-        for lane in (0..N_LAMBDA).filter(|&i| live[i]) {
+        for lane in (0..N_LAMBDA).filter(|&i| live & (1 << i) != 0) {
             if let Some((dir_t, transmission)) = self.transmission::<B>(dir, normal, &fresnels[lane]) {
                 refracted[lane] = Some((dir_t, incident.only_lane(lane).through(&transmission)));
             }

@@ -51,6 +51,11 @@ impl SampledSpectrum {
         out.values[lane] = self.values[lane];
         out
     }
+    /// The lanes above zero, as bits (lane i: bit i; NaN lanes are not above zero).
+    #[inline]
+    pub fn positive_lanes(&self) -> u32 {
+        self.values.iter().enumerate().fold(0, |bits, (i, &v)| bits | (u32::from(v > 0.0) << i))
+    }
     /// True when every lane is finite.
     #[inline]
     pub fn is_finite(&self) -> bool {
@@ -116,5 +121,24 @@ impl std::ops::IndexMut<usize> for SampledSpectrum {
     #[inline]
     fn index_mut(&mut self, i: usize) -> &mut f32 {
         &mut self.values[i]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Bit i is set exactly when lane i holds a number above zero: not for 0, −0, negatives or NaN.
+    #[test]
+    fn positive_lanes_marks_the_lanes_above_zero() {
+        let mut values = [0.0; N_LAMBDA];
+        values[0] = 1.0;
+        values[1] = -0.0;
+        values[2] = f32::NAN;
+        values[3] = -2.0;
+        values[N_LAMBDA - 1] = f32::MIN_POSITIVE / 4.0;
+        assert_eq!(SampledSpectrum { values }.positive_lanes(), 1 | 1 << (N_LAMBDA - 1));
+        assert_eq!(SampledSpectrum::splat(3.0).positive_lanes(), (1 << N_LAMBDA) - 1);
+        assert_eq!(SampledSpectrum::zero().positive_lanes(), 0);
     }
 }
