@@ -153,17 +153,25 @@ impl Geometry {
 
     /// The nearest hit with t in (0, `t_max`).
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
-        let (nearest_plane, t_limit) = self.nearest_plane(ray, t_max);
-        if let Some(spheres) = &self.few_spheres {
-            let (mut nearest, mut t_limit) = (nearest_plane, t_limit);
-            for (id, sphere) in spheres {
-                if let Some(hit) = sphere.intersect(ray, t_limit, *id) {
-                    t_limit = hit.t;
-                    nearest = Some(hit);
-                }
+        let Some(spheres) = &self.few_spheres else {
+            return self.intersect_bvh(ray, t_max);
+        };
+        let (mut nearest, mut t_limit) = self.nearest_plane(ray, t_max);
+        for (id, sphere) in spheres {
+            if let Some(hit) = sphere.intersect(ray, t_limit, *id) {
+                t_limit = hit.t;
+                nearest = Some(hit);
             }
-            return nearest;
         }
+        nearest
+    }
+
+    /// [`Self::intersect`] for any scene but a few spheres and planes: the planes, then the BVH
+    /// (or its single leaf). Kept apart so that the few-spheres test above does not pay this
+    /// search's register saves on every call.
+    #[inline(never)]
+    fn intersect_bvh(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
+        let (nearest_plane, t_limit) = self.nearest_plane(ray, t_max);
         // Prepared on the first triangle packet: rays that meet only spheres never need it.
         let mut sheared: Option<ShearedRay> = None;
         let mut nearest: Option<Nearest> = None;
@@ -350,11 +358,19 @@ impl Geometry {
 
     /// True when anything is hit with t in (0, `t_max`) (shadow rays).
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+        let Some(spheres) = &self.few_spheres else {
+            return self.occluded_bvh(ray, t_max);
+        };
+        self.planes_occlude(ray, t_max)
+            || spheres.iter().any(|(_, sphere)| sphere.intersect(ray, t_max, 0).is_some())
+    }
+
+    /// [`Self::occluded`] for any scene but a few spheres and planes (kept apart as
+    /// [`Self::intersect_bvh`] is).
+    #[inline(never)]
+    fn occluded_bvh(&self, ray: &Ray, t_max: f32) -> bool {
         if self.planes_occlude(ray, t_max) {
             return true;
-        }
-        if let Some(spheres) = &self.few_spheres {
-            return spheres.iter().any(|(_, sphere)| sphere.intersect(ray, t_max, 0).is_some());
         }
         let mut sheared: Option<ShearedRay> = None;
         match self.single_leaf {
