@@ -37,7 +37,7 @@ impl Sphere {
 
     /// The nearest intersection with t in (0, `t_max`), from outside or inside; `prim` is copied
     /// into the hit. The normal points away from the centre.
-    #[inline]
+    #[inline(always)]
     pub fn intersect(&self, ray: &Ray, t_max: f32, prim: u32) -> Option<Hit> {
         let dir = ray.dir;
         let to_origin = ray.origin - self.center;
