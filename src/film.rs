@@ -99,7 +99,7 @@ pub fn add_sample<B: Beam>(
         }
         let xyz = cie::to_xyz(component, wavelengths);
         for (sum, value) in sums[3 * k..3 * k + 3].iter_mut().zip(xyz.to_array()) {
-            ok &= sum.add_f64(f64::from(value));
+            ok &= sum.add_f32(value);
         }
     }
     let Some(bands) = &layout.bands else { return ok };
@@ -273,7 +273,7 @@ impl WindowSums {
                 (y - self.window.y0) as usize * self.window.width() as usize + (x - self.window.x0) as usize;
             let start = index * stride;
             for (sum, value) in self.light[start..start + stride].iter_mut().zip(values) {
-                if *value != 0.0 && !sum.add_f64(f64::from(*value)) {
+                if *value != 0.0 && !sum.add_f32(*value) {
                     failed.get_or_insert((x, y));
                 }
             }
