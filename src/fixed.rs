@@ -124,16 +124,17 @@ impl FixedSum {
     }
 
     /// Adds the f32 contribution `value`: the same as `add_f64(f64::from(value))`, bit for bit,
-    /// with a short path for the common case (a positive value whose multiple of the quantum is
-    /// an integer below 2¹²⁸, i.e. 2⁻⁶⁴·2⁻²³ ≤ value < 2⁶⁴ with no bits below the quantum), which
-    /// every camera sample and every light path's splat takes three times (XYZ).
+    /// with a short path for the common case, a positive normal value from 2⁻⁴¹ to below 2⁶⁴
+    /// (an exact multiple of the quantum, below 2¹²⁸ quanta), which every camera sample and
+    /// every light path's splat takes three times (XYZ).
     #[inline]
     #[must_use]
     pub fn add_f32(&mut self, value: f32) -> bool {
         let bits = value.to_bits();
         // value = m·2^(e − 150) for a normal f32 with biased exponent e, so value·2^64 =
         // m·2^(e − 86): an integer from e = 86, below 2^(e − 62) ≤ 2^128 up to e = 190.
-        let exponent_bits = bits >> 23; // the sign bit is zero for a positive value
+        // With the sign bit on top: a negative value gives 256 or more and takes the general path.
+        let exponent_bits = bits >> 23;
         if (86..=190).contains(&exponent_bits) {
             let mantissa = (bits & 0x7f_ffff) | 0x80_0000;
             let magnitude = u128::from(mantissa) << (exponent_bits - 86);
