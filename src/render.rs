@@ -476,8 +476,7 @@ fn trace_block<B: Beam>(
     let mut splats = Splats::default();
     let mut scratch = Scratch::<B>::default();
     let mut stats = TraceStats::default();
-    for path in paths {
-        let mut rng = sequence.path(path);
+    for mut rng in sequence.paths(paths) {
         tracer.trace_path::<B>(&mut rng, layout, &mut splats, &mut scratch, &mut stats);
     }
     (splats, stats)

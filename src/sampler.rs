@@ -155,6 +155,22 @@ pub const LIGHT_PATH_SOBOL_DIMENSIONS: usize = 8;
 /// 16-bit indices, so that the two agree there: tested).
 const SOBOL_REV: [[u32; LIGHT_PATH_SOBOL_DIMENSIONS]; 32] = sobol_rev_vectors();
 
+/// Entry `t`: the XOR of [`SOBOL_REV`]'s entries 0 to `t`, what going from index n to n + 1
+/// flips when n ends in `t` one bits (bits 0 to `t` change).
+const SOBOL_REV_PREFIX: [[u32; LIGHT_PATH_SOBOL_DIMENSIONS]; 32] = {
+    let mut prefix = [[0u32; LIGHT_PATH_SOBOL_DIMENSIONS]; 32];
+    let mut t = 0;
+    while t < 32 {
+        let mut dim = 0;
+        while dim < LIGHT_PATH_SOBOL_DIMENSIONS {
+            prefix[t][dim] = SOBOL_REV[t][dim] ^ if t > 0 { prefix[t - 1][dim] } else { 0 };
+            dim += 1;
+        }
+        t += 1;
+    }
+    prefix
+};
+
 /// Builds [`SOBOL_REV`] with Joe and Kuo's recurrence (S. Joe, F. Y. Kuo, "Constructing Sobol
 /// sequences with better two-dimensional projections", SIAM J. Sci. Comput. 30, 2008).
 const fn sobol_rev_vectors() -> [[u32; LIGHT_PATH_SOBOL_DIMENSIONS]; 32] {
@@ -233,9 +249,30 @@ impl LightPathSequence {
     /// The sample values of light path `path` (counted over the whole render from 0).
     #[inline]
     pub fn path(&self, path: u64) -> LightPathRng {
+        self.path_at(path, sobol_rev_point(path as u32))
+    }
+
+    /// The sample values of the light paths `paths`, in order: the same as [`Self::path`] for
+    /// each, with each Sobol point found from the one before by a single XOR (path n + 1 differs
+    /// from path n in the trailing ones of n and the bit above them), instead of one XOR per set
+    /// bit of the index.
+    pub fn paths(&self, paths: std::ops::Range<u64>) -> impl Iterator<Item = LightPathRng> + '_ {
+        let mut sobol = sobol_rev_point(paths.start as u32);
+        paths.map(move |path| {
+            let rng = self.path_at(path, sobol);
+            let flipped = SOBOL_REV_PREFIX[((path as u32).trailing_ones() as usize).min(31)];
+            for (value, vector) in sobol.iter_mut().zip(flipped) {
+                *value ^= vector;
+            }
+            rng
+        })
+    }
+
+    /// [`Self::path`] with the path's unscrambled Sobol point `sobol` already found.
+    #[inline]
+    fn path_at(&self, path: u64, sobol: [u32; LIGHT_PATH_SOBOL_DIMENSIONS]) -> LightPathRng {
         let chunk = (path >> 32) as u32;
         let scrambles = if chunk == 0 { self.scrambles } else { Self::scrambles_of(self.key, chunk) };
-        let sobol = sobol_rev_point(path as u32);
         let mut first = [0.0; LIGHT_PATH_SOBOL_DIMENSIONS];
         for ((out, value), scramble) in first.iter_mut().zip(sobol).zip(scrambles) {
             let scrambled = owen_scramble_rev(value, scramble).reverse_bits();
@@ -309,6 +346,25 @@ fn mix64(mut z: u64) -> u64 {
 
 #[cfg(test)]
 mod tests {
+
+    /// `paths` hands out the very values `path` gives each path, from any start, across the
+    /// 2³² boundary where the scrambles change, and past many trailing ones.
+    #[test]
+    fn paths_in_order_are_the_paths_one_by_one() {
+        let sequence = LightPathSequence::new(99);
+        let ranges =
+            [0..300u64, 12_345..12_600, (1 << 20) - 7..(1 << 20) + 9, (1 << 32) - 70..(1 << 32) + 70];
+        for range in ranges {
+            for (path, mut streamed) in range.clone().zip(sequence.paths(range.clone())) {
+                let mut single = sequence.path(path);
+                for dimension in 0..12 {
+                    let (a, b) = (streamed.uniform(), single.uniform());
+                    assert_eq!(a.to_bits(), b.to_bits(), "path {path}, dimension {dimension}");
+                }
+            }
+        }
+    }
+
     use super::*;
 
     /// The first `dims` values of samples 0..n of one pixel.
