@@ -41,6 +41,23 @@ enum Nearest {
     Sphere(Hit),
 }
 
+/// The nearest plane found so far, before its hit record is built: most rays that meet a
+/// floor plane meet a nearer shape too, whose hit then replaces it.
+#[derive(Clone, Copy, Debug)]
+struct PlaneHit {
+    prim: u32,
+    plane: Plane,
+    t: f32,
+}
+
+impl PlaneHit {
+    /// The hit record, as [`Plane::intersect`] gives it.
+    #[inline(always)]
+    fn record(&self, ray: &Ray) -> Hit {
+        self.plane.hit_at(ray, self.t, self.prim)
+    }
+}
+
 /// The intersectable scene.
 #[derive(Debug, Clone)]
 pub struct Geometry {
@@ -156,14 +173,15 @@ impl Geometry {
         let Some(spheres) = &self.few_spheres else {
             return self.intersect_bvh(ray, t_max);
         };
-        let (mut nearest, mut t_limit) = self.nearest_plane(ray, t_max);
+        let (plane, mut t_limit) = self.nearest_plane(ray, t_max);
+        let mut nearest = None;
         for (id, sphere) in spheres {
             if let Some(hit) = sphere.intersect(ray, t_limit, *id) {
                 t_limit = hit.t;
                 nearest = Some(hit);
             }
         }
-        nearest
+        nearest.or_else(|| plane.map(|plane| plane.record(ray)))
     }
 
     /// [`Self::intersect`] for any scene but a few spheres and planes: the planes, then the BVH
@@ -186,7 +204,7 @@ impl Geometry {
         if found {
             nearest.and_then(|nearest| self.hit_record(nearest))
         } else {
-            nearest_plane
+            nearest_plane.map(|plane| plane.record(ray))
         }
     }
 
@@ -235,7 +253,7 @@ impl Geometry {
             *hit = if found & (1 << lane) != 0 {
                 nearest[lane].and_then(|nearest| self.hit_record(nearest))
             } else {
-                nearest_plane[lane]
+                nearest_plane[lane].map(|plane| plane.record(&packet[lane]))
             };
         }
     }
@@ -244,25 +262,25 @@ impl Geometry {
     /// must then beat (its t, or `t_max`): the first among equal distances, whether the planes
     /// are few enough to be tested one by one or go four at a time.
     #[inline(always)]
-    fn nearest_plane(&self, ray: &Ray, t_max: f32) -> (Option<Hit>, f32) {
-        let mut nearest_plane: Option<Hit> = None;
+    fn nearest_plane(&self, ray: &Ray, t_max: f32) -> (Option<PlaneHit>, f32) {
+        let mut nearest_plane = None;
         let mut t_limit = t_max;
         if self.plane_list.len() <= FEW_PLANES {
-            for (id, plane) in &self.plane_list {
-                if let Some(hit) = plane.intersect(ray, t_limit, *id) {
-                    t_limit = hit.t;
-                    nearest_plane = Some(hit);
+            for &(prim, plane) in &self.plane_list {
+                if let Some(t) = plane.distance(ray, t_limit) {
+                    t_limit = t;
+                    nearest_plane = Some(PlaneHit { prim, plane, t });
                 }
             }
             return (nearest_plane, t_limit);
         }
         for packet in &self.planes {
             if let Some(lane) = packet.nearest(ray, t_limit) {
-                let (index, plane) = packet.plane(lane);
+                let (prim, plane) = packet.plane(lane);
                 // The packet's choice repeats Plane::intersect's arithmetic, so this hits.
-                if let Some(hit) = plane.intersect(ray, t_limit, index) {
-                    t_limit = hit.t;
-                    nearest_plane = Some(hit);
+                if let Some(t) = plane.distance(ray, t_limit) {
+                    t_limit = t;
+                    nearest_plane = Some(PlaneHit { prim, plane, t });
                 }
             }
         }

@@ -25,6 +25,14 @@ impl Plane {
     /// The hit's normal is the plane's `normal`.
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_max: f32, prim: u32) -> Option<Hit> {
+        self.distance(ray, t_max).map(|t| self.hit_at(ray, t, prim))
+    }
+
+    /// The distance t of [`Self::intersect`]'s hit, without its hit record (which
+    /// [`Self::hit_at`] builds): a scene's nearest-hit search builds the record of the one plane
+    /// that is nearest, after its other shapes have had their turn.
+    #[inline(always)]
+    pub fn distance(&self, ray: &Ray, t_max: f32) -> Option<f32> {
         debug_assert!(
             (self.normal.length_squared() - 1.0).abs() < 1e-3,
             "plane normal not unit: {}",
@@ -43,9 +51,16 @@ impl Plane {
         if !(t > 0.0 && t < t_max) {
             return None;
         }
+        Some(t)
+    }
+
+    /// The hit record of `ray` meeting the plane at distance `t` (from [`Self::distance`]): the
+    /// point reprojected onto the plane, the plane's normal, `prim`.
+    #[inline(always)]
+    pub fn hit_at(&self, ray: &Ray, t: f32, prim: u32) -> Hit {
         let on_ray = ray.at(t);
         let point = on_ray - (on_ray - self.point).dot(self.normal) * self.normal;
-        Some(Hit { t, point, normal: self.normal, shading_normal: self.normal, prim })
+        Hit { t, point, normal: self.normal, shading_normal: self.normal, prim }
     }
 }
 
