@@ -346,6 +346,7 @@ fn mix64(mut z: u64) -> u64 {
 
 #[cfg(test)]
 mod tests {
+    use super::*;
 
     /// `paths` hands out the very values `path` gives each path, from any start, across the
     /// 2³² boundary where the scrambles change, and past many trailing ones.
@@ -364,8 +365,6 @@ mod tests {
             }
         }
     }
-
-    use super::*;
 
     /// The first `dims` values of samples 0..n of one pixel.
     fn points(seed: u64, x: u32, y: u32, n: u32, dims: usize) -> Vec<Vec<f32>> {

@@ -291,7 +291,7 @@ impl Geometry {
     #[inline(always)]
     fn planes_occlude(&self, ray: &Ray, t_max: f32) -> bool {
         if self.plane_list.len() <= FEW_PLANES {
-            self.plane_list.iter().any(|(_, plane)| plane.intersect(ray, t_max, 0).is_some())
+            self.plane_list.iter().any(|(_, plane)| plane.distance(ray, t_max).is_some())
         } else {
             self.planes.iter().any(|packet| packet.any(ray, t_max))
         }
