@@ -163,6 +163,12 @@ impl Splats {
         self.pixels.is_empty()
     }
 
+    /// Splat `k`: its pixel and its luminance (CIE Y of its intensity, the first Stokes
+    /// component), in a film of `layout`.
+    pub fn luminance(&self, k: usize, layout: &FilmLayout) -> (u32, f32) {
+        (self.pixels[k], self.values[k * layout.values_per_pixel() + 1])
+    }
+
     /// Adds the light `beam` (radiance at the camera, per lane) that lands in pixel `pixel`.
     pub fn add<B: Beam>(
         &mut self,

@@ -31,7 +31,7 @@ use rayon::prelude::*;
 use crate::film::{add_sample, Film, FilmLayout, NonFinitePixel, SpectralBands, Splats, WindowSums};
 use crate::fixed::FixedSum;
 use crate::integrator::light_tracer::Scratch;
-use crate::integrator::{Beam, Fault, LightTracer, TraceStats, Whitted};
+use crate::integrator::{guide, Beam, Fault, LightTracer, TraceStats, Whitted};
 use crate::memory;
 use crate::part::{PixelWindow, SampleSet};
 use crate::polarization::Stokes;
@@ -131,8 +131,12 @@ pub struct RenderStats {
     pub light_paths: u64,
     /// Rays of the light tracer (included in `rays`).
     pub light_rays: u64,
-    /// Wall-clock time of the light tracer (included in `elapsed`).
+    /// Wall-clock time of the light tracer, learning its guide included (included in `elapsed`).
     pub light_elapsed: Duration,
+    /// The gain in efficiency the light tracer's guide was predicted to bring
+    /// ([`crate::integrator::guide::learn`]; used when at least
+    /// [`crate::integrator::guide::MIN_PREDICTED_GAIN`]), if it learned one.
+    pub light_guide_gain: Option<f64>,
 }
 
 /// Why a render could not run.
@@ -257,13 +261,23 @@ pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
         progress.set_length(samples.len() * per_sample);
     }
     let start = Instant::now();
+    let mut light = LightPasses::new(tracer, job, light_paths_per_pass);
+    // A part that does not trace the learning paths itself learns from them first.
+    let learning_passes = light.learning_paths / light_paths_per_pass.max(1);
+    if light.learning_paths > 0
+        && !samples.ranges().first().is_some_and(|r| r.start == 0 && u64::from(r.end) >= learning_passes)
+    {
+        let recorded = 0..light.recorded_paths;
+        light.trace(&pool, job, None, recorded, (width, height), &ProgressBar::hidden())?;
+        light.learn((width, height));
+    }
     let mut sums = WindowSums::new(window, layout, light_paths_per_pass > 0);
     // Blocks go through the samples in order: the first `done` of them are done.
     let mut done = 0u64;
     let mut interrupted = false;
     let mut rays = 0;
     let mut light_rays = 0;
-    let mut light_elapsed = Duration::ZERO;
+    let mut light_elapsed = start.elapsed();
     let finished = AtomicBool::new(false);
     let result: Result<(), RenderError> = std::thread::scope(|scope| {
         let logger = job.progress_log.map(|every| {
@@ -304,7 +318,8 @@ pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
                         let light_start = Instant::now();
                         let paths =
                             u64::from(first) * light_paths_per_pass..u64::from(end) * light_paths_per_pass;
-                        light_rays += light_block(&pool, &tracer, job, &mut sums, paths, width, &progress)?;
+                        light_rays +=
+                            light.trace(&pool, job, Some(&mut sums), paths, (width, height), &progress)?;
                         light_elapsed += light_start.elapsed();
                     }
                     done += u64::from(end - first);
@@ -336,6 +351,7 @@ pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
         light_paths: done.len() * light_paths_per_pass,
         light_rays,
         light_elapsed,
+        light_guide_gain: light.predicted_gain,
     };
     Ok(Rendered { sums, samples: done, interrupted, light_paths_per_pass, stats })
 }
@@ -409,77 +425,204 @@ fn camera_block<B: Beam>(
 /// Traces light paths `paths` (numbers over the whole render) and adds their splats in the
 /// window to `sums`: the rays cast.
 ///
-/// Each block's splats are added by the thread that traced it, as soon as it is done, under a
-/// lock: exact sums do not depend on the order of their terms, so the image is the same bits
-/// whatever the schedule, and no thread waits for a serial summation between batches of
-/// blocks. A failure names the pixel of the lowest-numbered block that had one.
+/// The light tracer's passes: the first `learning_paths` light paths of the render start
+/// uniformly (the first `recorded_paths` of them recorded), and teach the guide that the
+/// others start by ([`guide`]).
+struct LightPasses<'a> {
+    uniform: LightTracer<'a>,
+    guided: Option<LightTracer<'a>>,
+    learning_paths: u64,
+    recorded_paths: u64,
+    record: guide::Record,
+    predicted_gain: Option<f64>,
+}
+
+impl<'a> LightPasses<'a> {
+    /// The passes of `tracer` (uniform) for `job`, `per_pass` light paths a pass (0 without
+    /// caustics).
+    fn new(tracer: LightTracer<'a>, job: &Job, per_pass: u64) -> Self {
+        let learning_paths = if per_pass > 0 && job.settings.light_guide {
+            guide::MIN_LEARNING_PATHS.div_ceil(per_pass) * per_pass
+        } else {
+            0
+        };
+        Self {
+            uniform: tracer,
+            guided: None,
+            learning_paths,
+            recorded_paths: learning_paths.min(guide::MAX_RECORDED_PATHS),
+            record: guide::Record::default(),
+            predicted_gain: None,
+        }
+    }
+
+    /// Learns the guide from the paths recorded, once.
+    fn learn(&mut self, display: (u32, u32)) {
+        if self.guided.is_some() || self.learning_paths == 0 {
+            return;
+        }
+        let learned = guide::learn(&self.record, display);
+        self.record = guide::Record::default();
+        self.predicted_gain = learned.predicted_gain;
+        self.guided = Some(self.uniform.clone().with_guide(learned.guide));
+    }
+
+    /// Traces the light paths `paths` (adding their splats to `sums`, unless `None`): the
+    /// light tracer's rays.
+    fn trace(
+        &mut self,
+        pool: &rayon::ThreadPool,
+        job: &Job,
+        mut sums: Option<&mut WindowSums>,
+        paths: std::ops::Range<u64>,
+        display: (u32, u32),
+        progress: &ProgressBar,
+    ) -> Result<u64, RenderError> {
+        let part = |from: u64, to: u64| paths.start.max(from)..paths.end.min(to);
+        let mut rays = 0;
+        let recorded = part(0, self.recorded_paths);
+        if !recorded.is_empty() {
+            let record = self.guided.is_none();
+            let (block_rays, record) = light_block(
+                pool,
+                &self.uniform,
+                job,
+                sums.as_deref_mut(),
+                recorded,
+                display.0,
+                progress,
+                record,
+            )?;
+            rays += block_rays;
+            self.record.append(record);
+        }
+        let unrecorded = part(self.recorded_paths, self.learning_paths);
+        if !unrecorded.is_empty() {
+            rays += light_block(
+                pool,
+                &self.uniform,
+                job,
+                sums.as_deref_mut(),
+                unrecorded,
+                display.0,
+                progress,
+                false,
+            )?
+            .0;
+        }
+        if paths.end >= self.learning_paths {
+            self.learn(display);
+        }
+        let rest = part(self.learning_paths, u64::MAX);
+        if !rest.is_empty() {
+            let tracer = self.guided.as_ref().unwrap_or(&self.uniform);
+            rays += light_block(pool, tracer, job, sums, rest, display.0, progress, false)?.0;
+        }
+        Ok(rays)
+    }
+}
+
+/// Traces the light paths `paths` in blocks on `pool`, with their record for learning a guide
+/// when `record` (the paths' own, in path order; [`guide::Record`]): the light tracer's rays
+/// and that record.
+///
+/// Each block's splats are added to `sums` (unless `None`) by the thread that traced it, as soon
+/// as it is done, under a lock: exact sums do not depend on the order of their terms, so the
+/// image is the same bits whatever the schedule, and no thread waits for a serial summation
+/// between batches of blocks. A failure names the pixel of the lowest-numbered block that had
+/// one.
+#[allow(clippy::too_many_arguments)] // the render's state, passed flat
 fn light_block(
     pool: &rayon::ThreadPool,
     tracer: &LightTracer,
     job: &Job,
-    sums: &mut WindowSums,
+    sums: Option<&mut WindowSums>,
     paths: std::ops::Range<u64>,
     display_width: u32,
     progress: &ProgressBar,
-) -> Result<u64, RenderError> {
-    let layout = *sums.layout();
+    record: bool,
+) -> Result<(u64, guide::Record), RenderError> {
+    let layout = job.layout();
     let first_block = paths.start / LIGHT_PATH_BLOCK;
     let end_block = paths.end.div_ceil(LIGHT_PATH_BLOCK);
-    let shared = Mutex::new(LightSums { sums, rays: 0, failed: None });
+    let shared = Mutex::new(LightSums { sums, rays: 0, failed: None, records: Vec::new() });
     let blocks: Vec<u64> = (first_block..end_block).collect();
     pool.install(|| {
         blocks.par_iter().with_max_len(1).for_each(|&block| {
             let first = paths.start.max(block * LIGHT_PATH_BLOCK);
             let end = paths.end.min((block + 1) * LIGHT_PATH_BLOCK);
-            let (splats, stats) = if layout.stokes {
-                trace_block::<Stokes>(tracer, job, &layout, first..end)
+            let (splats, stats, block_record) = if layout.stokes {
+                trace_block::<Stokes>(tracer, job, &layout, first..end, record)
             } else {
-                trace_block::<SampledSpectrum>(tracer, job, &layout, first..end)
+                trace_block::<SampledSpectrum>(tracer, job, &layout, first..end, record)
             };
             // A panic elsewhere poisons the lock; the sums it guards are still whole.
             let mut shared = shared.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
-            if let Some(pixel) = shared.sums.add_splats(&splats, display_width) {
+            if let Some(pixel) = shared.sums.as_mut().and_then(|sums| sums.add_splats(&splats, display_width))
+            {
                 if shared.failed.is_none_or(|(earliest, _)| block < earliest) {
                     shared.failed = Some((block, pixel));
                 }
             }
             shared.rays += stats.rays;
+            if let Some(block_record) = block_record {
+                shared.records.push((block, block_record));
+            }
             drop(shared);
             progress.inc(end - first);
         });
     });
-    let shared = shared.into_inner().unwrap_or_else(std::sync::PoisonError::into_inner);
-    match shared.failed {
-        Some((_, (x, y))) => Err(not_summable(x, y)),
-        None => Ok(shared.rays),
+    let mut shared = shared.into_inner().unwrap_or_else(std::sync::PoisonError::into_inner);
+    if let Some((_, (x, y))) = shared.failed {
+        return Err(not_summable(x, y));
     }
+    // The blocks' records in path order, whatever order they finished in.
+    shared.records.sort_by_key(|(block, _)| *block);
+    let mut all = guide::Record::default();
+    for (_, block_record) in shared.records {
+        all.append(block_record);
+    }
+    Ok((shared.rays, all))
 }
 
 /// What the light tracer's blocks add to, shared between the render threads.
 struct LightSums<'a> {
-    sums: &'a mut WindowSums,
+    sums: Option<&'a mut WindowSums>,
     rays: u64,
     /// The first block (by number) whose splats could not be summed, and the pixel.
     failed: Option<(u64, (u32, u32))>,
+    /// The blocks' records for learning, by block number.
+    records: Vec<(u64, guide::Record)>,
 }
 
-/// Traces the light paths `paths` (all inside one block): their splats in path order, and
-/// their counters.
+/// Traces the light paths `paths` (all inside one block): their splats in path order, their
+/// counters, and when `record` their record for learning a guide (the paths start unwarped).
 fn trace_block<B: Beam>(
     tracer: &LightTracer,
     job: &Job,
     layout: &FilmLayout,
     paths: std::ops::Range<u64>,
-) -> (Splats, TraceStats) {
+    record: bool,
+) -> (Splats, TraceStats, Option<guide::Record>) {
     // One sequence over all the render's light paths, whichever block or part traces them.
     let sequence = LightPathSequence::new(job.settings.seed ^ LIGHT_PATH_SEED_SALT);
     let mut splats = Splats::default();
     let mut scratch = Scratch::<B>::default();
     let mut stats = TraceStats::default();
+    let mut block_record = record.then(guide::Record::default);
     for mut rng in sequence.paths(paths) {
-        tracer.trace_path::<B>(&mut rng, layout, &mut splats, &mut scratch, &mut stats);
+        match block_record.as_mut() {
+            Some(block_record) => {
+                let u = (rng.uniform(), rng.uniform());
+                let (splats_before, rays_before) = (splats.len(), stats.rays);
+                tracer.trace_path_from::<B>(u, 1.0, &mut rng, layout, &mut splats, &mut scratch, &mut stats);
+                let landings = (splats_before..splats.len()).map(|k| splats.luminance(k, layout));
+                block_record.add_path(u, stats.rays - rays_before, landings);
+            }
+            None => tracer.trace_path::<B>(&mut rng, layout, &mut splats, &mut scratch, &mut stats),
+        }
     }
-    (splats, stats)
+    (splats, stats, block_record)
 }
 
 /// Adds samples `block` of the pixels `x0..` of row `y` to their sums `row_sums` (the row of the

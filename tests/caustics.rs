@@ -26,7 +26,7 @@ fn bits(film: &Film, bands: &SpectralBands) -> Vec<u32> {
 
 /// Same seed, same image, bit for bit, on 1, 2 and 3 threads: the light paths come in fixed
 /// blocks whose splats are summed in block order. Polarised and not, several blocks (10 000
-/// light paths in blocks of 4096), spectral bands too.
+/// light paths in blocks of 1024), spectral bands too, the second pass guided by the first.
 #[test]
 fn caustics_are_bit_identical_for_any_thread_count() {
     let mut scene = scene("tp6_mirror_glass_caustics.toml");
@@ -41,6 +41,8 @@ fn caustics_are_bit_identical_for_any_thread_count() {
         let (one, stats) = render(&scene, &job(1)).unwrap();
         assert_eq!(stats.light_paths, 10_000);
         assert!(stats.light_rays > 10_000, "{stats:?}");
+        // The second pass starts its paths by the guide learned from the first.
+        assert!(stats.light_guide_gain.is_some_and(|g| g >= prisma::integrator::guide::MIN_PREDICTED_GAIN));
         let (two, _) = render(&scene, &job(2)).unwrap();
         let (three, _) = render(&scene, &job(3)).unwrap();
         assert_eq!(bits(&one, &bands), bits(&two, &bands), "polarized = {polarized}");

@@ -130,7 +130,7 @@ fn unpolarised_splits_merge_bit_identically() {
 }
 
 /// With caustics, light paths are split by samples (passes), here of 700 paths, so that parts
-/// start and end inside the light tracer's blocks of 4096 paths; a crop traces all the light
+/// start and end inside the light tracer's blocks of 1024 paths; a crop traces all the light
 /// paths of its samples and keeps the splats in its window.
 #[test]
 fn caustic_splits_by_samples_merge_bit_identically() {
@@ -147,6 +147,33 @@ fn caustic_splits_by_samples_merge_bit_identically() {
     );
     let (_, whole) = part(&scene, &job, "0..7", None, 2);
     assert!(whole.sums.light().iter().any(|s| !s.is_zero()), "the light tracer splatted");
+    // The guide learns from the first 6 passes (4,200 paths): parts without all of them
+    // (0..3, 3..7, 0..5, 5..7) trace those paths to learn it, and must learn the same guide.
+    let guided = render_sums(&scene, &job).unwrap();
+    let gain = guided.stats.light_guide_gain.expect("a guide was learned");
+    assert!(gain >= prisma::integrator::guide::MIN_PREDICTED_GAIN, "the guide is used: {gain}");
+}
+
+/// A render with caustics stopped after its first sample block, resumed and merged, gives the
+/// uninterrupted render: the resumed part, which lacks the guide's learning pass, learns the
+/// same guide.
+#[test]
+fn an_interrupted_caustic_render_resumes_into_the_uninterrupted_image() {
+    let scene = scene("tp6_mirror_glass_caustics.toml", 24, 16);
+    let mut job = Job::new(scene.settings.clone());
+    job.settings.spp = 4;
+    job.settings.caustics = true;
+    job.settings.light_paths = Some(5000);
+    let stopped = render_sums(&scene, &Job { stop_after_blocks: Some(1), ..job.clone() }).unwrap();
+    assert_eq!(stopped.samples.to_string(), "0..1", "the first block is one sample");
+    let rest = stopped.samples.missing_below(4);
+    let resumed = render_sums(&scene, &Job { samples: Some(rest), ..job.clone() }).unwrap();
+    let whole = render_sums(&scene, &job).unwrap();
+    assert!(whole.stats.light_guide_gain.is_some_and(|g| g >= prisma::integrator::guide::MIN_PREDICTED_GAIN));
+    assert_eq!(resumed.stats.light_guide_gain, whole.stats.light_guide_gain);
+    let mut sums = stopped.sums.clone();
+    sums.add(&resumed.sums).unwrap();
+    assert!(sums == whole.sums);
 }
 
 /// A render stopped after its first sample block holds the first samples exactly; rendering

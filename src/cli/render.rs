@@ -74,6 +74,10 @@ pub struct RenderArgs {
     /// No caustics, even if the scene file asks for them.
     #[arg(long)]
     no_caustics: bool,
+    /// Start every light path uniformly over its light's emission, without the guide learned
+    /// from the render's first light paths (the scene's `light_guide = false`).
+    #[arg(long)]
+    no_light_guide: bool,
     /// Light paths per pass with caustics (a render makes one pass per sample per pixel)
     /// [default: the scene's `light_paths`, scaled with the pixel count when --width or --height
     /// change it; else one per pixel].
@@ -128,6 +132,7 @@ impl RenderArgs {
             polarized: false,
             caustics: false,
             no_caustics: false,
+            no_light_guide: false,
             light_paths: None,
             spectral_bands: None,
             spectral_range: None,
@@ -185,6 +190,9 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         settings.caustics = true;
     } else if args.no_caustics {
         settings.caustics = false;
+    }
+    if args.no_light_guide {
+        settings.light_guide = false;
     }
     settings.light_paths = match (args.light_paths, settings.light_paths) {
         (Some(paths), _) => Some(paths),
@@ -366,6 +374,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         "light_paths": stats.light_paths,
         "light_rays": stats.light_rays,
         "light_tracer_seconds": stats.light_elapsed.as_secs_f64(),
+        "light_guide_predicted_gain": stats.light_guide_gain,
         "threads": stats.threads,
         "render_seconds": seconds,
         "samples": stats.samples,

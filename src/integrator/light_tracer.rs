@@ -41,6 +41,13 @@
 //! gets unpolarised light (S0), changed only by sheets on the way. The film divides the sums by
 //! the number of light paths traced ([`crate::film::SplatSums::add_to`]).
 //!
+//! # Where paths start
+//! Emission aims paths at the mirrors and glass ([`super::emission`]); within that, the first
+//! light paths of a render start uniformly, and the rest by the density [`super::guide`] learns
+//! from them (their flux divided by it): fewer where light piles up in a bright focus, more
+//! where it spreads thin. Where the guide predicts little gain (a beam through a prism) every
+//! path starts uniformly.
+//!
 //! # Branches at glass
 //! Where a path meets glass straight from its light (its first interaction), it **traces both
 //! branches**, the reflected one with the Fresnel reflectance and the refracted one with the
@@ -68,6 +75,7 @@
 use glam::Vec3;
 
 use super::emission::{Cone, Emission};
+use super::guide::EmissionGuide;
 use super::{element, fresnel, refraction, rotation, Beam, Fault, TraceStats};
 use crate::film::{FilmLayout, Splats};
 use crate::geometry::{spawn_origin, Hit, Ray};
@@ -121,6 +129,7 @@ impl<B> Default for Scratch<B> {
 }
 
 /// The light tracer over one scene.
+#[derive(Clone)]
 pub struct LightTracer<'a> {
     scene: &'a Scene,
     emission: Emission,
@@ -130,6 +139,7 @@ pub struct LightTracer<'a> {
     monochromatic_nm: Option<f32>,
     fault: Option<Fault>,
     has_sheets: bool,
+    guide: EmissionGuide,
 }
 
 impl<'a> LightTracer<'a> {
@@ -145,7 +155,18 @@ impl<'a> LightTracer<'a> {
             monochromatic_nm,
             fault: None,
             has_sheets: scene.materials.iter().any(Material::is_filter),
+            guide: EmissionGuide::uniform(),
         }
+    }
+
+    /// The same tracer starting its paths as `guide` says ([`super::guide`]).
+    pub fn with_guide(self, guide: EmissionGuide) -> Self {
+        Self { guide, ..self }
+    }
+
+    /// The guide its paths start by.
+    pub fn guide(&self) -> &EmissionGuide {
+        &self.guide
     }
 
     /// The same tracer with a deliberate physics error (validation only).
@@ -183,12 +204,28 @@ impl<'a> LightTracer<'a> {
         stats: &mut TraceStats,
     ) {
         // The direction (or a beam's position) first: the sampler stratifies dimensions 0 and 1
-        // jointly over all the render's light paths. Then only the choices this path has (the
-        // wavelengths unless monochromatic, the light among several...), so that in a
-        // monochromatic render with one light the first Fresnel choices (after the first
-        // interface, which traces both branches) take dimensions 2 and 3, stratified with the
-        // direction.
-        let u_dir = (rng.uniform(), rng.uniform());
+        // jointly over all the render's light paths; the guide warps them where paths are
+        // worth most. Then only the choices this path has (the wavelengths unless
+        // monochromatic, the light among several...), so that in a monochromatic render with
+        // one light the first Fresnel choices (after the first interface, which traces both
+        // branches) take dimensions 2 and 3, stratified with the direction.
+        let (u_dir, weight) = self.guide.warp((rng.uniform(), rng.uniform()));
+        self.trace_path_from(u_dir, weight, rng, layout, splats, scratch, stats);
+    }
+
+    /// [`Self::trace_path`] from the point `u_dir` of its first two sample dimensions (already
+    /// drawn from `rng`, already warped), its flux scaled by `weight`.
+    #[allow(clippy::too_many_arguments)] // the path's state, passed flat
+    pub fn trace_path_from<B: Beam>(
+        &self,
+        u_dir: (f32, f32),
+        weight: f32,
+        rng: &mut LightPathRng,
+        layout: &FilmLayout,
+        splats: &mut Splats,
+        scratch: &mut Scratch<B>,
+        stats: &mut TraceStats,
+    ) {
         let wavelengths = match self.monochromatic_nm {
             Some(nm) => SampledWavelengths::monochromatic(nm),
             None => SampledWavelengths::sample_visible(rng.uniform(), self.wavelengths),
@@ -200,7 +237,7 @@ impl<'a> LightTracer<'a> {
         };
         let flux = self.scene.lights[emitted.light].emitted().sample(&wavelengths)
             * wavelengths.active_mask()
-            * emitted.weight;
+            * (emitted.weight * weight);
         let reference = flux.max_value();
         if reference.is_nan() || reference <= 0.0 {
             return;

@@ -5,6 +5,7 @@
 
 pub mod beam;
 pub mod emission;
+pub mod guide;
 pub mod light_tracer;
 pub mod whitted;
 

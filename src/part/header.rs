@@ -9,7 +9,7 @@
 //! | `prisma.seed` | seed of the sample sequences |
 //! | `prisma.samples`, `prisma.spp` | sample indices held (`0..64,128..192`) and the render's total samples per pixel |
 //! | `prisma.crop` | the pixel window `X0,Y0,X1,Y1` (also the EXR data window) |
-//! | `prisma.settings` | the integrator settings as JSON: `max_depth`, `prune_below`, `wavelengths` (per sample), `area_light_samples`, `polarized`, `caustics`, `light_paths` (per pass, 0 without caustics), `spectral_bands`, `monochromatic_nm` |
+//! | `prisma.settings` | the integrator settings as JSON: `max_depth`, `prune_below`, `wavelengths` (per sample), `area_light_samples`, `polarized`, `caustics`, `light_paths` (per pass, 0 without caustics), `light_guide` (light paths started by a learned guide, [`crate::integrator::guide`]), `spectral_bands`, `monochromatic_nm` |
 //! | `prisma.wallSeconds`, `prisma.threads`, `prisma.parts` | render time (summed over merged parts), threads (the most any part used), parts merged into this file |
 //! | `prisma.sumsFormat`, `prisma.sumsBlake3` | present when the file holds per-pixel sums: their format and a BLAKE3 digest of them (corruption check) |
 
@@ -74,6 +74,7 @@ pub fn settings_json(settings: &RenderSettings, light_paths_per_pass: u64, layou
         "polarized": layout.stokes,
         "caustics": light_paths_per_pass > 0,
         "light_paths": light_paths_per_pass,
+        "light_guide": light_paths_per_pass > 0 && settings.light_guide,
         "spectral_bands": layout.bands.map(|b| serde_json::json!({
             "count": b.count, "min_nm": b.min_nm, "max_nm": b.max_nm
         })),

@@ -233,6 +233,7 @@ impl Builder<'_> {
             polarized: desc.polarized.unwrap_or(defaults.polarized),
             caustics: desc.caustics.unwrap_or(defaults.caustics),
             light_paths,
+            light_guide: desc.light_guide.unwrap_or(defaults.light_guide),
         };
         settings.check_ray_tree_bound().map_err(|message| self.error(span, "render.max_depth", message))?;
         Ok(settings)

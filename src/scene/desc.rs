@@ -100,6 +100,9 @@ pub struct RenderDesc {
     pub caustics: Option<bool>,
     /// Light paths traced per pass (one pass per sample per pixel); the pixel count when absent.
     pub light_paths: Option<u64>,
+    /// Start light paths by the guide learned from the render's first light paths (true, the
+    /// default) or all uniformly (false).
+    pub light_guide: Option<bool>,
 }
 
 /// A material, selected by `type` (read by [`Typed`], which keeps the positions of its values).

@@ -41,6 +41,9 @@ pub struct RenderSettings {
     /// Light paths per pass when caustics are on (a render makes `spp` passes); `None`: one per
     /// pixel.
     pub light_paths: Option<u64>,
+    /// Start light paths where they are worth most, as the render's first light paths teach
+    /// ([`crate::integrator::guide`]); false: uniformly over each light's emission.
+    pub light_guide: bool,
 }
 
 impl RenderSettings {
@@ -66,6 +69,7 @@ impl Default for RenderSettings {
             polarized: true,
             caustics: false,
             light_paths: None,
+            light_guide: true,
         }
     }
 }

@@ -1,0 +1,515 @@
+//! Guided emission: where the light tracer starts its light paths, learned from the render's
+//! own first light paths.
+//!
+//! A light path's first two sample dimensions (u₀, u₁) choose its direction (or a beam's
+//! position) through the light's emission mapping ([`super::emission`]). Uniform over the unit
+//! square, they send as many paths to every part of a glass ball: the centre's paths pile up in
+//! a bright focus where each pixel gets hundreds, while the few from the rim spread thin over
+//! the whole floor, a dim glow made of rare photons, where the image is noisiest relative to
+//! its brightness.
+//!
+//! [`EmissionGuide`] warps (u₀, u₁) through a piecewise-constant density over the square
+//! (`GUIDE_BINS` × `GUIDE_BINS` cells) and divides each path's flux by that density: unbiased
+//! for any density that is positive everywhere, and every cell keeps at least
+//! `DEFENSIVE_FRACTION` of the uniform density.
+//!
+//! # Learning
+//! The render's first light paths (at least `MIN_LEARNING_PATHS`, in whole passes) start
+//! uniformly, as without a guide, and count in the image like any other; [`Record`] keeps, for
+//! up to `MAX_RECORDED_PATHS` of them, the cell each started in, the rays it cost, and the
+//! pixel and luminance Y of each of its splats. [`learn`] makes from them a rough light image m
+//! (per path, blurred) and, per cell c, the mean over its paths of Σ Y² / (m² +
+//! `DISPLAY_FLOOR`) over their splats, M_c: the second moment of a path's contribution to the
+//! relMSE of validation's benches (errors below a tenth of display white, pixel value 1,
+//! counting absolutely), for paths that each reach few pixels. With C_c the cell's cost per
+//! path (its rays, plus `PATH_COST_RAYS` for the rest of a path's work), the density
+//! proportional to √(M_c / C_c) minimises variance × cost, the time to a given error.
+//!
+//! The same sums predict the gain: variance × cost with the uniform density over that with the
+//! guide's (variance = second moment − Σ m² / (m² + floor)). Below `MIN_PREDICTED_GAIN` the
+//! guide stays uniform: where a light's paths are all worth about the same (a beam aimed
+//! at a prism), guiding would only add the warp's cost.
+//!
+//! The learning paths are the render's paths 0..n, whatever part of the render is running: a
+//! part that does not hold them traces them for learning only (their splats are dropped), so
+//! every part of a split render learns the same guide and the image stays the same bits
+//! whatever the threads or the split.
+
+/// Cells of the guide along each of (u₀, u₁).
+pub const GUIDE_BINS: usize = 16;
+/// Fewest light paths the guide learns from: 16 per cell (Sobol points fill every cell
+/// equally). Passes of fewer paths learn from as many whole passes as make this many.
+pub const MIN_LEARNING_PATHS: u64 = 4096;
+/// Most light paths whose splats are recorded for learning (12 bytes a splat); the rest of
+/// the learning passes start uniformly, unrecorded.
+pub const MAX_RECORDED_PATHS: u64 = 1 << 18;
+/// The share of the uniform density every cell keeps (defensive sampling: a cell the learning
+/// paths under-rated still gets paths, with a bounded weight of at most 1/`DEFENSIVE_FRACTION`).
+pub const DEFENSIVE_FRACTION: f32 = 0.1;
+/// Below about the square root of this pixel value (a tenth of display white) the guide
+/// weighs errors absolutely rather than relative to the pixel: relMSE's floor.
+pub const DISPLAY_FLOOR: f64 = 0.01;
+/// The work of a light path besides its rays (emission, sample values, splats), in rays.
+pub const PATH_COST_RAYS: f64 = 1.0;
+/// Least predicted gain (variance × cost, uniform over guided) for the guide to be used.
+pub const MIN_PREDICTED_GAIN: f64 = 1.1;
+/// Passes of a 3×3 box blur over the learning paths' light image before it divides scores.
+const BLUR_PASSES: usize = 2;
+
+/// A piecewise-constant density over the unit square of a light path's first two sample
+/// dimensions, with the warp that samples it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EmissionGuide {
+    /// Density per cell, row `i` (u₀) major, mean 1; empty when uniform.
+    density: Vec<f32>,
+    /// Cumulative mass of the rows, `GUIDE_BINS` + 1 values from 0 to 1.
+    row_cdf: Vec<f32>,
+    /// Per row, the cumulative mass of its cells, `GUIDE_BINS` + 1 values from 0 to 1.
+    cell_cdf: Vec<f32>,
+}
+
+impl Default for EmissionGuide {
+    fn default() -> Self {
+        Self::uniform()
+    }
+}
+
+impl EmissionGuide {
+    /// The uniform density: paths start as without a guide, with weight 1.
+    pub fn uniform() -> Self {
+        Self { density: Vec::new(), row_cdf: Vec::new(), cell_cdf: Vec::new() }
+    }
+
+    /// True for the uniform guide.
+    pub fn is_uniform(&self) -> bool {
+        self.density.is_empty()
+    }
+
+    /// The guide whose density in each cell is proportional to `shape` (one value per cell,
+    /// row-major, u₀ the row), mixed with the uniform density (`DEFENSIVE_FRACTION`). Uniform
+    /// when the values are all zero or not all finite and non-negative.
+    pub fn proportional_to(shape: &[f64]) -> Self {
+        assert_eq!(shape.len(), GUIDE_BINS * GUIDE_BINS, "one value per cell");
+        if shape.iter().any(|s| !s.is_finite() || *s < 0.0) {
+            return Self::uniform();
+        }
+        let mean = shape.iter().sum::<f64>() / shape.len() as f64;
+        if !(mean > 0.0 && mean.is_finite()) {
+            return Self::uniform();
+        }
+        let keep = f64::from(DEFENSIVE_FRACTION);
+        let density: Vec<f32> = shape.iter().map(|r| ((1.0 - keep) * r / mean + keep) as f32).collect();
+        // The warp's tables, from the f32 densities (so that they and the weights agree).
+        let n = GUIDE_BINS;
+        let rows: Vec<f64> =
+            density.chunks_exact(n).map(|row| row.iter().map(|&d| f64::from(d)).sum()).collect();
+        let total: f64 = rows.iter().sum();
+        let mut row_cdf = Vec::with_capacity(n + 1);
+        let mut acc = 0.0;
+        row_cdf.push(0.0);
+        for r in &rows {
+            acc += r;
+            row_cdf.push((acc / total) as f32);
+        }
+        row_cdf[n] = 1.0;
+        let mut cell_cdf = Vec::with_capacity(n * (n + 1));
+        for (row, &mass) in density.chunks_exact(n).zip(&rows) {
+            let mut acc = 0.0;
+            cell_cdf.push(0.0);
+            for &d in row {
+                acc += f64::from(d);
+                cell_cdf.push((acc / mass) as f32);
+            }
+            let last = cell_cdf.len() - 1;
+            cell_cdf[last] = 1.0;
+        }
+        // Renormalise the densities to the tables' masses, which are what the warp samples.
+        let density = (0..n * n)
+            .map(|c| {
+                let (i, j) = (c / n, c % n);
+                let row = row_cdf[i + 1] - row_cdf[i];
+                let cell = cell_cdf[i * (n + 1) + j + 1] - cell_cdf[i * (n + 1) + j];
+                row * cell * (n * n) as f32
+            })
+            .collect();
+        Self { density, row_cdf, cell_cdf }
+    }
+
+    /// The density of cell (`row`, `column`) (mean 1 over the cells).
+    pub fn density(&self, row: usize, column: usize) -> f32 {
+        if self.is_uniform() {
+            1.0
+        } else {
+            self.density[row * GUIDE_BINS + column]
+        }
+    }
+
+    /// The cell (row-major index) the point `u` of the unit square lies in.
+    pub fn cell_of(u: (f32, f32)) -> usize {
+        let n = GUIDE_BINS as f32;
+        let i = ((u.0 * n) as usize).min(GUIDE_BINS - 1);
+        let j = ((u.1 * n) as usize).min(GUIDE_BINS - 1);
+        i * GUIDE_BINS + j
+    }
+
+    /// Maps a uniform point `u` of the unit square to one distributed with this density, and
+    /// returns it with its weight, 1/density (the identity and 1 when uniform). Monotone in
+    /// each coordinate within a row, so stratified points stay stratified.
+    #[inline]
+    pub fn warp(&self, u: (f32, f32)) -> ((f32, f32), f32) {
+        if self.is_uniform() {
+            return (u, 1.0);
+        }
+        let n = GUIDE_BINS;
+        let (i, x) = invert(&self.row_cdf, u.0);
+        let (j, y) = invert(&self.cell_cdf[i * (n + 1)..(i + 1) * (n + 1)], u.1);
+        let scale = n as f32;
+        let warped = (((i as f32 + x) / scale).min(ONE_BELOW), ((j as f32 + y) / scale).min(ONE_BELOW));
+        (warped, 1.0 / self.density[i * n + j])
+    }
+}
+
+/// The largest f32 below 1.
+const ONE_BELOW: f32 = 1.0 - f32::EPSILON / 2.0;
+
+/// The interval `k` of the cumulative table `cdf` (increasing, 0 to 1) that holds `u`, and
+/// where in it `u` lies, in [0, 1).
+#[inline]
+fn invert(cdf: &[f32], u: f32) -> (usize, f32) {
+    let last = cdf.len() - 2;
+    // The last k with cdf[k] <= u, among intervals of positive width.
+    let k = cdf[1..=last].partition_point(|&c| c <= u);
+    let (lo, hi) = (cdf[k], cdf[k + 1]);
+    let t = if hi > lo { (u - lo) / (hi - lo) } else { 0.0 };
+    (k, t.clamp(0.0, ONE_BELOW))
+}
+
+/// What the learning paths left: per cell, their number and rays; per splat (in path order),
+/// the cell its path started in, its pixel and its luminance.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Record {
+    paths: Vec<u64>,
+    rays: Vec<u64>,
+    landings: Vec<Landing>,
+}
+
+/// One splat of a learning path.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Landing {
+    cell: u16,
+    pixel: u32,
+    luminance: f32,
+}
+
+impl Default for Record {
+    fn default() -> Self {
+        let cells = GUIDE_BINS * GUIDE_BINS;
+        Self { paths: vec![0; cells], rays: vec![0; cells], landings: Vec::new() }
+    }
+}
+
+impl Record {
+    /// Records a light path that started (unwarped) at `u`, cast `rays` rays and made the
+    /// splats `landings` (pixel, luminance Y).
+    pub fn add_path(&mut self, u: (f32, f32), rays: u64, landings: impl Iterator<Item = (u32, f32)>) {
+        let cell = EmissionGuide::cell_of(u);
+        self.paths[cell] += 1;
+        self.rays[cell] += rays;
+        let cell = cell as u16;
+        self.landings.extend(landings.map(|(pixel, luminance)| Landing { cell, pixel, luminance }));
+    }
+
+    /// Appends the paths of `later` (traced after these).
+    pub fn append(&mut self, later: Record) {
+        for (total, n) in self.paths.iter_mut().zip(&later.paths) {
+            *total += n;
+        }
+        for (total, n) in self.rays.iter_mut().zip(&later.rays) {
+            *total += n;
+        }
+        self.landings.extend(later.landings);
+    }
+
+    /// Light paths recorded.
+    pub fn paths(&self) -> u64 {
+        self.paths.iter().sum()
+    }
+}
+
+/// A learned guide and the gain it was predicted to bring.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Learned {
+    /// The guide: uniform when the gain was predicted below `MIN_PREDICTED_GAIN`.
+    pub guide: EmissionGuide,
+    /// Variance × cost with uniform paths over that with the density learned (module docs);
+    /// `None` when nothing was learned (no splat, or too few paths).
+    pub predicted_gain: Option<f64>,
+}
+
+/// Learns a guide from the learning paths' `record`, whose splats fall on a `display` of
+/// (width, height) pixels. Deterministic: sums in the record's order.
+pub fn learn(record: &Record, display: (u32, u32)) -> Learned {
+    let nothing = Learned { guide: EmissionGuide::uniform(), predicted_gain: None };
+    let paths = record.paths();
+    if paths < MIN_LEARNING_PATHS || record.landings.is_empty() {
+        return nothing;
+    }
+    let (width, height) = (display.0 as usize, display.1 as usize);
+    let mut image = vec![0.0f64; width * height];
+    for landing in &record.landings {
+        if let Some(value) = image.get_mut(landing.pixel as usize) {
+            *value += f64::from(landing.luminance) / paths as f64;
+        }
+    }
+    for _ in 0..BLUR_PASSES {
+        image = box_blur(&image, width, height);
+    }
+    let denominator = |pixel: u32| image.get(pixel as usize).map(|m| m * m + DISPLAY_FLOOR);
+    let cells = GUIDE_BINS * GUIDE_BINS;
+    // Per cell, the mean over its paths of Σ Y²/(m² + floor), and the cost of a path.
+    let mut moments = vec![0.0f64; cells];
+    for landing in &record.landings {
+        if let Some(den) = denominator(landing.pixel) {
+            let y = f64::from(landing.luminance);
+            moments[usize::from(landing.cell)] += y * y / den;
+        }
+    }
+    let mean_cost = record.rays.iter().sum::<u64>() as f64 / paths as f64 + PATH_COST_RAYS;
+    let mut costs = vec![mean_cost; cells];
+    for c in 0..cells {
+        if record.paths[c] > 0 {
+            moments[c] /= record.paths[c] as f64;
+            costs[c] = record.rays[c] as f64 / record.paths[c] as f64 + PATH_COST_RAYS;
+        }
+    }
+    // The square of the mean image, which every density's variance subtracts alike.
+    let squared_mean: f64 = image.iter().map(|m| m * m / (m * m + DISPLAY_FLOOR)).sum();
+    let shape: Vec<f64> = moments.iter().zip(&costs).map(|(m, c)| (m / c).sqrt()).collect();
+    let guide = EmissionGuide::proportional_to(&shape);
+    if guide.is_uniform() {
+        return nothing;
+    }
+    let mean = |f: &dyn Fn(usize) -> f64| (0..cells).map(f).sum::<f64>() / cells as f64;
+    let density = |c: usize| f64::from(guide.density(c / GUIDE_BINS, c % GUIDE_BINS));
+    let uniform = (mean(&|c| moments[c]) - squared_mean) * mean(&|c| costs[c]);
+    let guided = (mean(&|c| moments[c] / density(c)) - squared_mean) * mean(&|c| costs[c] * density(c));
+    let gain = uniform / guided;
+    if !(gain.is_finite() && gain > 0.0) {
+        return nothing;
+    }
+    let guide = if gain >= MIN_PREDICTED_GAIN { guide } else { EmissionGuide::uniform() };
+    Learned { guide, predicted_gain: Some(gain) }
+}
+
+/// One pass of a 3×3 box blur over a `width`×`height` image (row-major), the edges clamped.
+fn box_blur(image: &[f64], width: usize, height: usize) -> Vec<f64> {
+    let at = |x: isize, y: isize| {
+        let x = x.clamp(0, width as isize - 1) as usize;
+        let y = y.clamp(0, height as isize - 1) as usize;
+        image[y * width + x]
+    };
+    let mut out = vec![0.0; image.len()];
+    for y in 0..height as isize {
+        for x in 0..width as isize {
+            let mut sum = 0.0;
+            for dy in -1..=1 {
+                for dx in -1..=1 {
+                    sum += at(x + dx, y + dy);
+                }
+            }
+            out[y as usize * width + x as usize] = sum / 9.0;
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A lopsided density: cell c weighs √((c mod 7)² + (c / 40)⁴).
+    fn lopsided() -> EmissionGuide {
+        let shape: Vec<f64> = (0..GUIDE_BINS * GUIDE_BINS)
+            .map(|c| (((c % 7) as f64).powi(2) + ((c / 40) as f64).powi(4)).sqrt())
+            .collect();
+        EmissionGuide::proportional_to(&shape)
+    }
+
+    #[test]
+    fn uniform_guide_is_the_identity() {
+        let guide = EmissionGuide::uniform();
+        assert_eq!(guide.warp((0.25, 0.75)), ((0.25, 0.75), 1.0));
+        assert_eq!(EmissionGuide::proportional_to(&[0.0; GUIDE_BINS * GUIDE_BINS]), guide);
+        let mut bad = [1.0; GUIDE_BINS * GUIDE_BINS];
+        bad[3] = f64::NAN;
+        assert!(EmissionGuide::proportional_to(&bad).is_uniform());
+    }
+
+    #[test]
+    fn density_has_mean_one_and_a_defensive_floor() {
+        let guide = lopsided();
+        let n = GUIDE_BINS;
+        let mean: f64 =
+            (0..n * n).map(|c| f64::from(guide.density(c / n, c % n))).sum::<f64>() / (n * n) as f64;
+        assert!((mean - 1.0).abs() < 1e-5, "mean density {mean}");
+        let least = (0..n * n).map(|c| guide.density(c / n, c % n)).fold(f32::INFINITY, f32::min);
+        assert!(least >= DEFENSIVE_FRACTION * 0.999, "least density {least}");
+        // Cells 0, 7, 14... weigh zero: only the floor. Cell 255 weighs most.
+        assert!(guide.density(0, 0) < 0.11 && guide.density(n - 1, n - 1) > 2.0);
+    }
+
+    /// The warped points of a fine grid fall in each cell in proportion to its density, and the
+    /// weighted mean of a function over them is its integral over the square (the estimator
+    /// stays unbiased): checked on x² + y·eˣ, whose integral is 1/3 + (e − 1)/2.
+    #[test]
+    fn warp_samples_the_density_and_weights_integrate() {
+        let guide = lopsided();
+        let n = GUIDE_BINS;
+        let k = 2048;
+        let mut counts = vec![0u32; n * n];
+        let mut integral = 0.0f64;
+        for a in 0..k {
+            for b in 0..k {
+                let u = ((a as f32 + 0.5) / k as f32, (b as f32 + 0.5) / k as f32);
+                let ((x, y), weight) = guide.warp(u);
+                assert!((0.0..1.0).contains(&x) && (0.0..1.0).contains(&y), "{u:?} -> {x}, {y}");
+                let cell = EmissionGuide::cell_of((x, y));
+                assert_eq!(weight, 1.0 / guide.density(cell / n, cell % n));
+                counts[cell] += 1;
+                let (x, y) = (f64::from(x), f64::from(y));
+                integral += (x * x + y * x.exp()) * f64::from(weight);
+            }
+        }
+        let points = (k * k) as f64;
+        for (cell, &count) in counts.iter().enumerate() {
+            let expected = f64::from(guide.density(cell / n, cell % n)) * points / (n * n) as f64;
+            assert!(
+                (f64::from(count) - expected).abs() <= 0.02 * expected + 64.0,
+                "cell {cell}: {count}, {expected}"
+            );
+        }
+        // The grid's quadrature error (its points do not line up with the cells' edges) falls
+        // with k: relative 9e-4 at k = 512, −3.6e-4 at 1024, −1.0e-4 at 2048, −1e-6 at 4096.
+        let exact = 1.0 / 3.0 + (std::f64::consts::E - 1.0) / 2.0;
+        assert!((integral / points - exact).abs() < 2e-4 * exact, "{} vs {exact}", integral / points);
+    }
+
+    #[test]
+    fn warp_is_monotone_along_each_coordinate() {
+        let guide = lopsided();
+        let mut last = -1.0;
+        for a in 0..4096 {
+            let ((x, _), _) = guide.warp(((a as f32 + 0.5) / 4096.0, 0.3));
+            assert!(x >= last);
+            last = x;
+        }
+        let mut last = -1.0;
+        for b in 0..4096 {
+            let ((_, y), _) = guide.warp((0.6, (b as f32 + 0.5) / 4096.0));
+            assert!(y >= last);
+            last = y;
+        }
+    }
+
+    /// A record of `per_cell` paths in every cell of a 1×1 display (where the blur keeps the
+    /// image), path k of cell c casting `rays(c)` rays and splatting `luminance(c, k)` (none
+    /// when zero).
+    fn record(
+        per_cell: usize,
+        rays: impl Fn(usize) -> u64,
+        luminance: impl Fn(usize, usize) -> f32,
+    ) -> Record {
+        let n = GUIDE_BINS;
+        let mut record = Record::default();
+        for k in 0..per_cell {
+            for c in 0..n * n {
+                let u = (
+                    ((c / n) as f32 + 0.5) / n as f32,
+                    ((c % n) as f32 + (k as f32 + 0.5) / per_cell as f32) / n as f32,
+                );
+                let y = luminance(c, k);
+                record.add_path(u, rays(c), (y > 0.0).then_some((0, y)).into_iter());
+            }
+        }
+        record
+    }
+
+    #[test]
+    fn too_few_paths_or_no_splat_learn_nothing() {
+        let few = record(MIN_LEARNING_PATHS as usize / (GUIDE_BINS * GUIDE_BINS) - 1, |_| 2, |c, _| c as f32);
+        assert_eq!(learn(&few, (1, 1)), Learned { guide: EmissionGuide::uniform(), predicted_gain: None });
+        let dark = record(32, |_| 2, |_, _| 0.0);
+        assert_eq!(learn(&dark, (1, 1)).predicted_gain, None);
+    }
+
+    #[test]
+    fn paths_all_worth_the_same_keep_the_uniform_density() {
+        let flat = record(16, |_| 3, |_, k| if k % 4 == 0 { 2.8 } else { 0.0 });
+        let learned = learn(&flat, (1, 1));
+        assert!(learned.guide.is_uniform());
+        let gain = learned.predicted_gain.expect("learned");
+        assert!((gain - 1.0).abs() < 1e-6, "{gain}");
+    }
+
+    #[test]
+    fn dearer_cells_get_fewer_paths() {
+        // Equal contributions (one path in 8 of every cell brings 8); the upper half of the rows
+        // costs 24 + 1 = 25 path units, the lower 0 + 1 = 1: densities before the defensive mix
+        // in the ratio √25.
+        let n = GUIDE_BINS;
+        let dear_upper = |c: usize| if c / n >= n / 2 { 24 } else { 0 };
+        let learned = learn(&record(16, dear_upper, |_, k| if k % 8 == 0 { 8.0 } else { 0.0 }), (1, 1));
+        let (cheap, dear) = (learned.guide.density(0, 0), learned.guide.density(n - 1, 0));
+        let keep = DEFENSIVE_FRACTION;
+        let ratio = (cheap - keep) / (dear - keep);
+        assert!((ratio - 5.0).abs() < 1e-3, "{ratio}");
+    }
+
+    /// The predicted gain is the ratio of variances (equal costs) that sampling with the guide
+    /// shows: paths drawn uniformly and through the guide's warp, each estimating the pixel
+    /// (one pixel, the cells' luminances lopsided), their sample variances compared.
+    #[test]
+    fn predicted_gain_is_the_variance_ratio_sampling_shows() {
+        let n = GUIDE_BINS;
+        let luminance =
+            |c: usize, _: usize| if c % 5 == 0 { 4.0 + (c / n) as f32 } else { 0.05 * (c % 3) as f32 };
+        let learned = learn(&record(16, |_| 3, luminance), (1, 1));
+        let gain = learned.predicted_gain.expect("learned");
+        assert!(!learned.guide.is_uniform() && gain > 2.0, "{gain}");
+        // A pixel far above the display floor: relative variance, the same for both.
+        let variance = |guide: &EmissionGuide| {
+            let k = 2048;
+            let (mut sum, mut sum2) = (0.0f64, 0.0f64);
+            for a in 0..k {
+                for b in 0..k {
+                    let ((x, y), weight) =
+                        guide.warp(((a as f32 + 0.5) / k as f32, (b as f32 + 0.5) / k as f32));
+                    let value = f64::from(luminance(EmissionGuide::cell_of((x, y)), 0) * weight);
+                    sum += value;
+                    sum2 += value * value;
+                }
+            }
+            let count = (k * k) as f64;
+            (sum / count, sum2 / count - (sum / count).powi(2))
+        };
+        let (uniform_mean, uniform_variance) = variance(&EmissionGuide::uniform());
+        let (guided_mean, guided_variance) = variance(&learned.guide);
+        assert!((guided_mean / uniform_mean - 1.0).abs() < 1e-3, "{guided_mean} vs {uniform_mean}");
+        let shown = uniform_variance / guided_variance;
+        // The floor cancels from the ratio (one pixel); the grid's quadrature over the warped
+        // cells leaves 0.16 %.
+        assert!((shown / gain - 1.0).abs() < 0.01, "predicted {gain}, shown {shown}");
+    }
+
+    #[test]
+    fn blur_keeps_a_constant_image_and_spreads_a_point() {
+        let flat = vec![2.0; 12];
+        assert_eq!(box_blur(&flat, 4, 3), flat);
+        let mut point = vec![0.0; 25];
+        point[12] = 9.0;
+        let blurred = box_blur(&point, 5, 5);
+        assert_eq!(blurred[12], 1.0);
+        assert_eq!(blurred[6], 1.0);
+        assert_eq!(blurred[0], 0.0);
+    }
+}
