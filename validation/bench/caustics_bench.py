@@ -27,6 +27,8 @@ than wall time, which is what the target is stated in.
   validation/.venv/bin/python validation/bench/caustics_bench.py --newton   # and the Newton prism
   validation/.venv/bin/python validation/bench/caustics_bench.py --spectral # and all wavelengths at once
   validation/.venv/bin/python validation/bench/caustics_bench.py --sampler ldsampler  # ptracer's sampler
+  validation/.venv/bin/python validation/bench/caustics_bench.py --no-light-guide     # prisma unguided
+  validation/.venv/bin/python validation/bench/caustics_bench.py --light-paths 0      # the scene's split
 
 The prisma binary is $PRISMA, else target/release/prisma of this repository (translate.find_prisma).
 Mitsuba's sampler is `independent` (ptracer's usual one, and the references') unless --sampler
@@ -61,6 +63,14 @@ REPEATS = int(sys.argv[sys.argv.index("--repeat") + 1]) if "--repeat" in sys.arg
 # 0.027-0.045 s against 0.017-0.022 s after a pause). Mitsuba's own renders follow its own work
 # and are not paused.
 SETTLE_SECONDS = 0.5
+# prisma's flags passed through from this script's command line.
+PRISMA_FLAGS = [flag for flag in ("--no-light-guide",) if flag in sys.argv]
+# Light paths per pass of prisma's renders in the races (--light-paths N; 0: the scene's, one per
+# pixel). prisma splits a render between camera samples and light paths, Mitsuba's ptracer
+# traces light paths only; half a light path per pixel per pass is the best split of the ball
+# lens at 550 nm with the guide (the time to relMSE 1e-3 / 1e-4, best of 3, 2026-12-04 10:05 UTC:
+# 4,096 paths 13.0 / 61.2 ms, 6,144 12.9 / 56.6 ms, 9,216 14.1 / 59.5 ms, 12,288 15.3 / 64.0 ms).
+LIGHT_PATHS = int(sys.argv[sys.argv.index("--light-paths") + 1]) if "--light-paths" in sys.argv else 6144
 
 
 def load(path):
@@ -135,6 +145,8 @@ def race(case, prisma, out, sampler):
     noise = float(np.mean(((first - second) ** 2 / 4.0 / (reference ** 2 + 1e-2))[mask]))
     results = {"case": case.name, "reference_noise_relmse": noise, "pixels": int(mask.sum()), "repeats": REPEATS}
     mode = ["--wavelength", str(case.wavelength)] if case.wavelength is not None else []
+    light_paths = ["--light-paths", str(LIGHT_PATHS)] if LIGHT_PATHS > 0 else []
+    results["prisma_light_paths_per_pass"] = LIGHT_PATHS or "the scene's"
 
     def render_prisma(spp):
         """One prisma render: (render seconds, CPU seconds of the process, relMSE)."""
@@ -143,7 +155,7 @@ def race(case, prisma, out, sampler):
         before = children_cpu()
         # Unpolarised, as Mitsuba's plain variants and the references.
         subprocess.run([prisma, "render", str(case.scene), *mode, "--spp", str(spp), "--unpolarized", "--seed",
-                        "17", "-o", str(exr), "--quiet", "--stats", str(stats)], check=True)
+                        "17", "-o", str(exr), "--quiet", "--stats", str(stats), *PRISMA_FLAGS, *light_paths], check=True)
         cpu = children_cpu() - before
         seconds = json.loads(stats.read_text())["render_seconds"]
         return seconds, cpu, rel_mse(case.image(exr), reference, mask) - noise
