@@ -262,14 +262,15 @@ pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
     }
     let start = Instant::now();
     let mut light = LightPasses::new(tracer, job, light_paths_per_pass);
-    // A part that does not trace the learning paths itself learns from them first.
-    let learning_passes = light.learning_paths / light_paths_per_pass.max(1);
+    // A part whose first samples do not hold the learning paths learns from them first.
     if light.learning_paths > 0
-        && !samples.ranges().first().is_some_and(|r| r.start == 0 && u64::from(r.end) >= learning_passes)
+        && !samples
+            .ranges()
+            .first()
+            .is_some_and(|r| r.start == 0 && u64::from(r.end) * light_paths_per_pass >= light.learning_paths)
     {
-        let recorded = 0..light.recorded_paths;
-        light.trace(&pool, job, None, recorded, (width, height), &ProgressBar::hidden())?;
-        light.learn((width, height));
+        let learning = 0..light.learning_paths;
+        light.trace(&pool, job, None, learning, (width, height), &ProgressBar::hidden())?;
     }
     let mut sums = WindowSums::new(window, layout, light_paths_per_pass > 0);
     // Blocks go through the samples in order: the first `done` of them are done.
@@ -426,13 +427,11 @@ fn camera_block<B: Beam>(
 /// window to `sums`: the rays cast.
 ///
 /// The light tracer's passes: the first `learning_paths` light paths of the render start
-/// uniformly (the first `recorded_paths` of them recorded), and teach the guide that the
-/// others start by ([`guide`]).
+/// uniformly and teach the guide that the others start by ([`guide`]).
 struct LightPasses<'a> {
     uniform: LightTracer<'a>,
     guided: Option<LightTracer<'a>>,
     learning_paths: u64,
-    recorded_paths: u64,
     record: guide::Record,
     predicted_gain: Option<f64>,
 }
@@ -442,7 +441,7 @@ impl<'a> LightPasses<'a> {
     /// caustics).
     fn new(tracer: LightTracer<'a>, job: &Job, per_pass: u64) -> Self {
         let learning_paths = if per_pass > 0 && job.settings.light_guide {
-            guide::MIN_LEARNING_PATHS.div_ceil(per_pass) * per_pass
+            per_pass.clamp(guide::MIN_LEARNING_PATHS, guide::MAX_LEARNING_PATHS)
         } else {
             0
         };
@@ -450,7 +449,6 @@ impl<'a> LightPasses<'a> {
             uniform: tracer,
             guided: None,
             learning_paths,
-            recorded_paths: learning_paths.min(guide::MAX_RECORDED_PATHS),
             record: guide::Record::default(),
             predicted_gain: None,
         }
@@ -480,35 +478,22 @@ impl<'a> LightPasses<'a> {
     ) -> Result<u64, RenderError> {
         let part = |from: u64, to: u64| paths.start.max(from)..paths.end.min(to);
         let mut rays = 0;
-        let recorded = part(0, self.recorded_paths);
-        if !recorded.is_empty() {
+        let learning = part(0, self.learning_paths);
+        if !learning.is_empty() {
+            // Recorded unless the guide is learned already (a part that learned first).
             let record = self.guided.is_none();
             let (block_rays, record) = light_block(
                 pool,
                 &self.uniform,
                 job,
                 sums.as_deref_mut(),
-                recorded,
+                learning,
                 display.0,
                 progress,
                 record,
             )?;
             rays += block_rays;
             self.record.append(record);
-        }
-        let unrecorded = part(self.recorded_paths, self.learning_paths);
-        if !unrecorded.is_empty() {
-            rays += light_block(
-                pool,
-                &self.uniform,
-                job,
-                sums.as_deref_mut(),
-                unrecorded,
-                display.0,
-                progress,
-                false,
-            )?
-            .0;
         }
         if paths.end >= self.learning_paths {
             self.learn(display);

@@ -14,10 +14,10 @@
 //! `DEFENSIVE_FRACTION` of the uniform density.
 //!
 //! # Learning
-//! The render's first light paths (at least `MIN_LEARNING_PATHS`, in whole passes) start
-//! uniformly, as without a guide, and count in the image like any other; [`Record`] keeps, for
-//! up to `MAX_RECORDED_PATHS` of them, the cell each started in, the rays it cost, and the
-//! pixel and luminance Y of each of its splats. [`learn`] makes from them a rough light image m
+//! The render's first light paths, a pass's worth but at least `MIN_LEARNING_PATHS` and at most
+//! `MAX_LEARNING_PATHS`, start uniformly, as without a guide, and count in the image like any
+//! other; [`Record`] keeps the cell each started in, the rays it cost, and the pixel and
+//! luminance Y of each of its splats. [`learn`] makes from them a rough light image m
 //! (per path, blurred) and, per cell c, the mean over its paths of Σ Y² / (m² +
 //! `DISPLAY_FLOOR`) over their splats, M_c: the second moment of a path's contribution to the
 //! relMSE of validation's benches (errors below a tenth of display white, pixel value 1,
@@ -38,11 +38,11 @@
 /// Cells of the guide along each of (u₀, u₁).
 pub const GUIDE_BINS: usize = 16;
 /// Fewest light paths the guide learns from: 16 per cell (Sobol points fill every cell
-/// equally). Passes of fewer paths learn from as many whole passes as make this many.
+/// equally), even where a pass has fewer.
 pub const MIN_LEARNING_PATHS: u64 = 4096;
-/// Most light paths whose splats are recorded for learning (12 bytes a splat); the rest of
-/// the learning passes start uniformly, unrecorded.
-pub const MAX_RECORDED_PATHS: u64 = 1 << 18;
+/// Most light paths the guide learns from, even where a pass has more (a record keeps 12 bytes
+/// per splat).
+pub const MAX_LEARNING_PATHS: u64 = 1 << 18;
 /// The share of the uniform density every cell keeps (defensive sampling: a cell the learning
 /// paths under-rated still gets paths, with a bounded weight of at most 1/`DEFENSIVE_FRACTION`).
 pub const DEFENSIVE_FRACTION: f32 = 0.1;
