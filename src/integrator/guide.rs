@@ -444,7 +444,7 @@ mod tests {
 
     #[test]
     fn paths_all_worth_the_same_keep_the_uniform_density() {
-        let flat = record(16, |_| 3, |_, k| if k % 4 == 0 { 2.8 } else { 0.0 });
+        let flat = record(16, |_| 3, |_, k| if k.is_multiple_of(4) { 2.8 } else { 0.0 });
         let learned = learn(&flat, (1, 1));
         assert!(learned.guide.is_uniform());
         let gain = learned.predicted_gain.expect("learned");
@@ -458,7 +458,8 @@ mod tests {
         // in the ratio √25.
         let n = GUIDE_BINS;
         let dear_upper = |c: usize| if c / n >= n / 2 { 24 } else { 0 };
-        let learned = learn(&record(16, dear_upper, |_, k| if k % 8 == 0 { 8.0 } else { 0.0 }), (1, 1));
+        let learned =
+            learn(&record(16, dear_upper, |_, k| if k.is_multiple_of(8) { 8.0 } else { 0.0 }), (1, 1));
         let (cheap, dear) = (learned.guide.density(0, 0), learned.guide.density(n - 1, 0));
         let keep = DEFENSIVE_FRACTION;
         let ratio = (cheap - keep) / (dear - keep);
@@ -471,8 +472,13 @@ mod tests {
     #[test]
     fn predicted_gain_is_the_variance_ratio_sampling_shows() {
         let n = GUIDE_BINS;
-        let luminance =
-            |c: usize, _: usize| if c % 5 == 0 { 4.0 + (c / n) as f32 } else { 0.05 * (c % 3) as f32 };
+        let luminance = |c: usize, _: usize| {
+            if c.is_multiple_of(5) {
+                4.0 + (c / n) as f32
+            } else {
+                0.05 * (c % 3) as f32
+            }
+        };
         let learned = learn(&record(16, |_| 3, luminance), (1, 1));
         let gain = learned.predicted_gain.expect("learned");
         assert!(!learned.guide.is_uniform() && gain > 2.0, "{gain}");
