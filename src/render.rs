@@ -262,6 +262,7 @@ pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
     }
     let start = Instant::now();
     let mut light = LightPasses::new(tracer, job, light_paths_per_pass);
+    let mut light_elapsed = Duration::ZERO;
     // A part whose first samples do not hold the learning paths learns from them first.
     if light.learning_paths > 0
         && !samples
@@ -271,6 +272,7 @@ pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
     {
         let learning = 0..light.learning_paths;
         light.trace(&pool, job, None, learning, (width, height), &ProgressBar::hidden())?;
+        light_elapsed = start.elapsed();
     }
     let mut sums = WindowSums::new(window, layout, light_paths_per_pass > 0);
     // Blocks go through the samples in order: the first `done` of them are done.
@@ -278,7 +280,6 @@ pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
     let mut interrupted = false;
     let mut rays = 0;
     let mut light_rays = 0;
-    let mut light_elapsed = start.elapsed();
     let finished = AtomicBool::new(false);
     let result: Result<(), RenderError> = std::thread::scope(|scope| {
         let logger = job.progress_log.map(|every| {

@@ -33,9 +33,10 @@
 //! at a prism), guiding would only add the warp's cost.
 //!
 //! The learning paths are the render's paths 0..n, whatever part of the render is running: a
-//! part that does not hold them traces them for learning only (their splats are dropped), so
-//! every part of a split render learns the same guide and the image stays the same bits
-//! whatever the threads or the split.
+//! part that does not hold them all traces them for learning only (their splats are dropped),
+//! so every part of a split render learns the same guide and the image stays the same bits
+//! whatever the threads or the split. (So does a render with fewer light paths in all than
+//! `MIN_LEARNING_PATHS`: at most 4,096 paths' work, about 2 ms on the caustic bench's ball.)
 
 /// Cells of the guide along each of (u₀, u₁).
 pub const GUIDE_BINS: usize = 16;
