@@ -424,11 +424,9 @@ fn camera_block<B: Beam>(
         .reduce(|| (0, None), |a, b| (a.0 + b.0, a.1.or(b.1)))
 }
 
-/// Traces light paths `paths` (numbers over the whole render) and adds their splats in the
-/// window to `sums`: the rays cast.
-///
 /// The light tracer's passes: the first `learning_paths` light paths of the render start
-/// uniformly and teach the guide that the others start by ([`guide`]).
+/// uniformly and teach the guide that the others start by ([`guide`]). Light paths are
+/// numbered over the whole render.
 struct LightPasses<'a> {
     uniform: LightTracer<'a>,
     guided: Option<LightTracer<'a>>,
@@ -508,9 +506,9 @@ impl<'a> LightPasses<'a> {
     }
 }
 
-/// Traces the light paths `paths` in blocks on `pool`, with their record for learning a guide
-/// when `record` (the paths' own, in path order; [`guide::Record`]): the light tracer's rays
-/// and that record.
+/// Traces the light paths `paths` in blocks on `pool` and adds their splats in the window to
+/// `sums` (unless `None`): the rays cast, and when `record` the paths' record for learning a
+/// guide (in path order; [`guide::Record`]).
 ///
 /// Each block's splats are added to `sums` (unless `None`) by the thread that traced it, as soon
 /// as it is done, under a lock: exact sums do not depend on the order of their terms, so the

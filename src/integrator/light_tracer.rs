@@ -164,11 +164,6 @@ impl<'a> LightTracer<'a> {
         Self { guide, ..self }
     }
 
-    /// The guide its paths start by.
-    pub fn guide(&self) -> &EmissionGuide {
-        &self.guide
-    }
-
     /// The same tracer with a deliberate physics error (validation only).
     pub fn with_fault(self, fault: Option<Fault>) -> Self {
         Self { fault, ..self }
