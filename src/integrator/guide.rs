@@ -18,7 +18,7 @@
 //! `MAX_LEARNING_PATHS`, start uniformly, as without a guide, and count in the image like any
 //! other; [`Record`] keeps the cell each started in, the rays it cost, and the pixel and
 //! luminance Y of each of its splats. [`learn`] makes from them a rough light image m
-//! (per path, blurred) and, per cell c, the mean over its paths of Σ Y² / (m² +
+//! (per path, blurred; in blocks of pixels beyond `LEARNING_IMAGE_SIZE`) and, per cell c, the mean over its paths of Σ Y² / (m² +
 //! `DISPLAY_FLOOR`) over their splats, M_c: the second moment of a path's contribution to the
 //! relMSE of validation's benches (errors below a tenth of display white, pixel value 1,
 //! counting absolutely), for paths that each reach few pixels. With C_c the cell's cost per
@@ -56,6 +56,9 @@ pub const DISPLAY_FLOOR: f64 = 0.01;
 pub const PATH_COST_RAYS: f64 = 1.0;
 /// Least predicted gain (variance × cost, uniform over guided) for the guide to be used.
 pub const MIN_PREDICTED_GAIN: f64 = 1.1;
+/// Largest width and height of the learning paths' light image: a larger display is binned in
+/// square blocks of pixels (so that learning a guide for a 16k render takes a few MB, not GB).
+const LEARNING_IMAGE_SIZE: u32 = 512;
 /// Passes of a 3×3 box blur over the learning paths' light image before it divides scores.
 const BLUR_PASSES: usize = 2;
 /// Passes of a 3×3 box blur over the cells' moments before they shape the density: one left
@@ -260,17 +263,26 @@ pub fn learn(record: &Record, display: (u32, u32)) -> Learned {
     if paths < MIN_LEARNING_PATHS || record.landings.is_empty() {
         return nothing;
     }
-    let (width, height) = (display.0 as usize, display.1 as usize);
+    // The light image per display pixel, on a grid of `step` × `step` blocks of pixels at most
+    // `LEARNING_IMAGE_SIZE` wide and high (pixel by pixel for small images).
+    let (display_width, display_height) = (display.0.max(1), display.1.max(1));
+    let step = display_width.max(display_height).div_ceil(LEARNING_IMAGE_SIZE).max(1);
+    let (width, height) = (display_width.div_ceil(step) as usize, display_height.div_ceil(step) as usize);
+    let block_of = |pixel: u32| {
+        let (x, y) = (pixel % display_width, pixel / display_width);
+        (y < display_height).then(|| (y / step) as usize * width + (x / step) as usize)
+    };
+    let pixels_per_block = f64::from(step * step);
     let mut image = vec![0.0f64; width * height];
     for landing in &record.landings {
-        if let Some(value) = image.get_mut(landing.pixel as usize) {
-            *value += f64::from(landing.luminance) / paths as f64;
+        if let Some(block) = block_of(landing.pixel) {
+            image[block] += f64::from(landing.luminance) / (paths as f64 * pixels_per_block);
         }
     }
     for _ in 0..BLUR_PASSES {
         image = box_blur(&image, width, height);
     }
-    let denominator = |pixel: u32| image.get(pixel as usize).map(|m| m * m + DISPLAY_FLOOR);
+    let denominator = |pixel: u32| block_of(pixel).map(|block| image[block] * image[block] + DISPLAY_FLOOR);
     let cells = GUIDE_BINS * GUIDE_BINS;
     // Per cell, the mean over its paths of Σ Y²/(m² + floor), and the cost of a path.
     let mut moments = vec![0.0f64; cells];
@@ -289,7 +301,8 @@ pub fn learn(record: &Record, display: (u32, u32)) -> Learned {
         }
     }
     // The square of the mean image, which every density's variance subtracts alike.
-    let squared_mean: f64 = image.iter().map(|m| m * m / (m * m + DISPLAY_FLOOR)).sum();
+    let squared_mean: f64 =
+        image.iter().map(|m| m * m / (m * m + DISPLAY_FLOOR)).sum::<f64>() * pixels_per_block;
     // The density follows the moments blurred over neighbouring cells (each cell's estimate
     // rests on a few dozen paths); the prediction below uses the cells' own.
     let mut smoothed = moments.clone();
@@ -517,6 +530,17 @@ mod tests {
         // The floor cancels from the ratio (one pixel); the grid's quadrature over the warped
         // cells leaves 0.16 %.
         assert!((shown / gain - 1.0).abs() < 0.01, "predicted {gain}, shown {shown}");
+    }
+
+    /// A display of 40,000 × 40,000 pixels (an f64 per pixel would be 12.8 GB) learns on a
+    /// binned image: the same landings in one pixel give a guide, quickly.
+    #[test]
+    fn a_huge_display_learns_on_a_binned_image() {
+        let n = GUIDE_BINS;
+        let luminance = |c: usize, _: usize| if c.is_multiple_of(5) { 4.0 + (c / n) as f32 } else { 0.0 };
+        let learned = learn(&record(16, |_| 3, luminance), (40_000, 40_000));
+        assert!(learned.predicted_gain.is_some_and(|g| g.is_finite() && g > 1.5), "{learned:?}");
+        assert!(!learned.guide.is_uniform());
     }
 
     #[test]
