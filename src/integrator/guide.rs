@@ -17,11 +17,11 @@
 //! The render's first light paths, a pass's worth but at least `MIN_LEARNING_PATHS` and at most
 //! `MAX_LEARNING_PATHS`, start uniformly, as without a guide, and count in the image like any
 //! other; [`Record`] keeps the cell each started in, the rays it cost, and the pixel and
-//! luminance Y of each of its splats. [`learn`] makes from them a rough light image m
-//! (per path, blurred; in blocks of pixels beyond `LEARNING_IMAGE_SIZE`) and, per cell c, the mean over its paths of Σ Y² / (m² +
-//! `DISPLAY_FLOOR`) over their splats, M_c: the second moment of a path's contribution to the
-//! relMSE of validation's benches (errors below a tenth of display white, pixel value 1,
-//! counting absolutely), for paths that each reach few pixels. With C_c the cell's cost per
+//! luminance Y of each of its splats. [`learn`] makes from them a rough light image m (per
+//! path, blurred; in blocks of pixels beyond `LEARNING_IMAGE_SIZE`) and, per cell c, the mean
+//! over its paths of Σ Y² / (m² + `DISPLAY_FLOOR`) over their splats, M_c: the second moment
+//! of a path's contribution to the relMSE of validation's benches (errors below a tenth of
+//! display white, pixel value 1, counting absolutely), for paths that each reach few pixels. With C_c the cell's cost per
 //! path (its rays, plus `PATH_COST_RAYS` for the rest of a path's work), the density
 //! proportional to √(M_c / C_c) minimises variance × cost, the time to a given error; the
 //! guide takes M_c blurred over neighbouring cells, each cell's estimate resting on a few
@@ -30,7 +30,10 @@
 //! The same sums predict the gain: variance × cost with the uniform density over that with the
 //! guide's (variance = second moment − Σ m² / (m² + floor)). Below `MIN_PREDICTED_GAIN` the
 //! guide stays uniform: where a light's paths are all worth about the same (a beam aimed
-//! at a prism), guiding would only add the warp's cost.
+//! at a prism), guiding would only add the warp's cost. The prediction is for independent
+//! samples; the light paths are Sobol-stratified, which helps the uniform density most, so the
+//! gain measured is smaller (on the caustic bench's ball predicted 2.0, measured 1.4–1.7× less
+//! error at equal spp and 1.1–1.25× less time at equal error; validation/bench/RESULTS.md).
 //!
 //! The learning paths are the render's paths 0..n, whatever part of the render is running: a
 //! part that does not hold them all traces them for learning only (their splats are dropped),
