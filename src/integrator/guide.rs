@@ -33,7 +33,7 @@
 //! at a prism), guiding would only add the warp's cost. The prediction is for independent
 //! samples; the light paths are Sobol-stratified, which helps the uniform density most, so the
 //! gain measured is smaller (on the caustic bench's ball predicted 2.0, measured 1.4–1.7× less
-//! error at equal spp and 1.1–1.25× less time at equal error; validation/bench/RESULTS.md).
+//! error at equal spp and 1.0–1.25× less time at equal error; validation/bench/RESULTS.md).
 //!
 //! The learning paths are the render's paths 0..n, whatever part of the render is running: a
 //! part that does not hold them all traces them for learning only (their splats are dropped),
