@@ -275,7 +275,7 @@ pub fn learn(record: &Record, display: (u32, u32)) -> Learned {
         let (x, y) = (pixel % display_width, pixel / display_width);
         (y < display_height).then(|| (y / step) as usize * width + (x / step) as usize)
     };
-    let pixels_per_block = f64::from(step * step);
+    let pixels_per_block = f64::from(step).powi(2);
     let mut image = vec![0.0f64; width * height];
     for landing in &record.landings {
         if let Some(block) = block_of(landing.pixel) {
