@@ -580,7 +580,8 @@ struct LightSums<'a> {
 }
 
 /// Traces the light paths `paths` (all inside one block): their splats in path order, their
-/// counters, and when `record` their record for learning a guide (the paths start unwarped).
+/// counters, and when `record` their record for learning a guide (only for a tracer whose
+/// paths start uniformly: the record files each path under its unwarped start).
 fn trace_block<B: Beam>(
     tracer: &LightTracer,
     job: &Job,
@@ -593,17 +594,14 @@ fn trace_block<B: Beam>(
     let mut splats = Splats::default();
     let mut scratch = Scratch::<B>::default();
     let mut stats = TraceStats::default();
+    debug_assert!(!(record && tracer.is_guided()), "a guided path's start is not what it recorded");
     let mut block_record = record.then(guide::Record::default);
     for mut rng in sequence.paths(paths) {
-        match block_record.as_mut() {
-            Some(block_record) => {
-                let u = (rng.uniform(), rng.uniform());
-                let (splats_before, rays_before) = (splats.len(), stats.rays);
-                tracer.trace_path_from::<B>(u, 1.0, &mut rng, layout, &mut splats, &mut scratch, &mut stats);
-                let landings = (splats_before..splats.len()).map(|k| splats.luminance(k, layout));
-                block_record.add_path(u, stats.rays - rays_before, landings);
-            }
-            None => tracer.trace_path::<B>(&mut rng, layout, &mut splats, &mut scratch, &mut stats),
+        let (splats_before, rays_before) = (splats.len(), stats.rays);
+        let u = tracer.trace_path::<B>(&mut rng, layout, &mut splats, &mut scratch, &mut stats);
+        if let Some(block_record) = block_record.as_mut() {
+            let landings = (splats_before..splats.len()).map(|k| splats.luminance(k, layout));
+            block_record.add_path(u, stats.rays - rays_before, landings);
         }
     }
     (splats, stats, block_record)

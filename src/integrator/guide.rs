@@ -113,27 +113,13 @@ impl EmissionGuide {
         let density: Vec<f32> = shape.iter().map(|r| ((1.0 - keep) * r / mean + keep) as f32).collect();
         // The warp's tables, from the f32 densities (so that they and the weights agree).
         let n = GUIDE_BINS;
-        let rows: Vec<f64> =
-            density.chunks_exact(n).map(|row| row.iter().map(|&d| f64::from(d)).sum()).collect();
-        let total: f64 = rows.iter().sum();
+        let rows: Vec<Vec<f64>> =
+            density.chunks_exact(n).map(|row| row.iter().map(|&d| f64::from(d)).collect()).collect();
         let mut row_cdf = Vec::with_capacity(n + 1);
-        let mut acc = 0.0;
-        row_cdf.push(0.0);
-        for r in &rows {
-            acc += r;
-            row_cdf.push((acc / total) as f32);
-        }
-        row_cdf[n] = 1.0;
+        push_cdf(&mut row_cdf, &rows.iter().map(|row| row.iter().sum()).collect::<Vec<f64>>());
         let mut cell_cdf = Vec::with_capacity(n * (n + 1));
-        for (row, &mass) in density.chunks_exact(n).zip(&rows) {
-            let mut acc = 0.0;
-            cell_cdf.push(0.0);
-            for &d in row {
-                acc += f64::from(d);
-                cell_cdf.push((acc / mass) as f32);
-            }
-            let last = cell_cdf.len() - 1;
-            cell_cdf[last] = 1.0;
+        for row in &rows {
+            push_cdf(&mut cell_cdf, row);
         }
         // Renormalise the densities to the tables' masses, which are what the warp samples.
         let density = (0..n * n)
@@ -178,6 +164,21 @@ impl EmissionGuide {
         let scale = n as f32;
         let warped = (((i as f32 + x) / scale).min(ONE_BELOW), ((j as f32 + y) / scale).min(ONE_BELOW));
         (warped, 1.0 / self.density[i * n + j])
+    }
+}
+
+/// Appends to `table` the cumulative table of `masses` (non-negative, not all zero): its
+/// `masses.len()` + 1 values from 0 to exactly 1.
+fn push_cdf(table: &mut Vec<f32>, masses: &[f64]) {
+    let total: f64 = masses.iter().sum();
+    let mut sum = 0.0;
+    table.push(0.0);
+    for mass in masses {
+        sum += mass;
+        table.push((sum / total) as f32);
+    }
+    if let Some(last) = table.last_mut() {
+        *last = 1.0;
     }
 }
 

@@ -189,7 +189,8 @@ impl<'a> LightTracer<'a> {
     }
 
     /// Traces one light path drawing from `rng`, and adds what the camera sees of it to
-    /// `splats`.
+    /// `splats`: the point of the unit square its first two sample dimensions drew, before the
+    /// guide's warp (what [`super::guide::Record`] files a path of a uniform tracer under).
     pub fn trace_path<B: Beam>(
         &self,
         rng: &mut LightPathRng,
@@ -197,21 +198,28 @@ impl<'a> LightTracer<'a> {
         splats: &mut Splats,
         scratch: &mut Scratch<B>,
         stats: &mut TraceStats,
-    ) {
+    ) -> (f32, f32) {
         // The direction (or a beam's position) first: the sampler stratifies dimensions 0 and 1
         // jointly over all the render's light paths; the guide warps them where paths are
         // worth most. Then only the choices this path has (the wavelengths unless
         // monochromatic, the light among several...), so that in a monochromatic render with
         // one light the first Fresnel choices (after the first interface, which traces both
         // branches) take dimensions 2 and 3, stratified with the direction.
-        let (u_dir, weight) = self.guide.warp((rng.uniform(), rng.uniform()));
+        let u = (rng.uniform(), rng.uniform());
+        let (u_dir, weight) = self.guide.warp(u);
         self.trace_path_from(u_dir, weight, rng, layout, splats, scratch, stats);
+        u
+    }
+
+    /// True when its paths start by a learned guide rather than uniformly.
+    pub fn is_guided(&self) -> bool {
+        !self.guide.is_uniform()
     }
 
     /// [`Self::trace_path`] from the point `u_dir` of its first two sample dimensions (already
     /// drawn from `rng`, already warped), its flux scaled by `weight`.
     #[allow(clippy::too_many_arguments)] // the path's state, passed flat
-    pub fn trace_path_from<B: Beam>(
+    fn trace_path_from<B: Beam>(
         &self,
         u_dir: (f32, f32),
         weight: f32,
