@@ -72,9 +72,27 @@ impl FilmLayout {
     pub fn band_values(&self) -> usize {
         self.bands.map_or(0, |bands| bands.count * self.components())
     }
-    /// Values summed per pixel: XYZ of each Stokes component, then the band values.
+    /// The colour values summed per Stokes component, as indices into XYZ: X, Y and Z, or for a
+    /// monochromatic render, whose XYZ is (L, L, L), Y = L alone.
+    pub fn colour_axes(&self) -> &'static [usize] {
+        if self.monochromatic_nm.is_some() {
+            &[1]
+        } else {
+            &[0, 1, 2]
+        }
+    }
+    /// Colour values summed per Stokes component (3, or 1 when monochromatic).
+    pub fn colour_values(&self) -> usize {
+        self.colour_axes().len()
+    }
+    /// Values summed per pixel: the colour values of each Stokes component, then the band
+    /// values.
     pub fn values_per_pixel(&self) -> usize {
-        3 * self.components() + self.band_values()
+        self.colour_values() * self.components() + self.band_values()
+    }
+    /// Where the luminance (CIE Y of S0) sits among a pixel's values.
+    pub fn luminance_index(&self) -> usize {
+        self.colour_values() / 2
     }
 }
 
@@ -97,15 +115,17 @@ pub fn add_sample<B: Beam>(
         if k > 0 && component.is_zero() {
             continue;
         }
-        let xyz = cie::to_xyz(component, wavelengths);
-        for (sum, value) in sums[3 * k..3 * k + 3].iter_mut().zip(xyz.to_array()) {
-            ok &= sum.add_f32(value);
+        let xyz = cie::to_xyz(component, wavelengths).to_array();
+        let axes = layout.colour_axes();
+        let colour = axes.len() * k..axes.len() * (k + 1);
+        for (sum, &axis) in sums[colour].iter_mut().zip(axes) {
+            ok &= sum.add_f32(xyz[axis]);
         }
     }
     let Some(bands) = &layout.bands else { return ok };
     // Band mean of L: (1/Δλ)·∫_band L dλ, estimated like `to_xyz` with an indicator for the
     // colour-matching function: Σ_active L(λ_i)/p(λ_i) / active over the lanes in the band.
-    let offset = 3 * layout.components();
+    let offset = layout.colour_values() * layout.components();
     let active = wavelengths.active();
     let scale = 1.0 / (active as f64 * f64::from(bands.width_nm()));
     for lane in 0..active {
@@ -166,7 +186,7 @@ impl Splats {
     /// Splat `k`: its pixel and its luminance (CIE Y of its intensity, the first Stokes
     /// component), in a film of `layout`.
     pub fn luminance(&self, k: usize, layout: &FilmLayout) -> (u32, f32) {
-        (self.pixels[k], self.values[k * layout.values_per_pixel() + 1])
+        (self.pixels[k], self.values[k * layout.values_per_pixel() + layout.luminance_index()])
     }
 
     /// Adds the light `beam` (radiance at the camera, per lane) that lands in pixel `pixel`.
@@ -179,7 +199,8 @@ impl Splats {
     ) {
         self.pixels.push(pixel);
         for component in beam.components() {
-            self.values.extend_from_slice(&cie::to_xyz(component, wavelengths).to_array());
+            let xyz = cie::to_xyz(component, wavelengths).to_array();
+            self.values.extend(layout.colour_axes().iter().map(|&axis| xyz[axis]));
         }
         let Some(bands) = &layout.bands else { return };
         let start = self.values.len();
@@ -336,6 +357,7 @@ impl WindowSums {
     pub fn film(&self, samples: u64, light_paths_per_pass: u64, display: (u32, u32)) -> Film {
         let stride = self.stride();
         let components = self.layout.components();
+        let colour = self.layout.colour_values();
         let n = samples as f64;
         let paths = samples as f64 * light_paths_per_pass as f64;
         let pixels = (0..self.window.pixels())
@@ -351,12 +373,15 @@ impl WindowSums {
                     }
                     mean
                 };
-                let xyz = |k: usize| Vec3::new(value(3 * k), value(3 * k + 1), value(3 * k + 2));
+                let xyz = |k: usize| match colour {
+                    1 => Vec3::splat(value(k)),
+                    _ => Vec3::new(value(3 * k), value(3 * k + 1), value(3 * k + 2)),
+                };
                 let stokes = |k: usize| if k < components { xyz(k) } else { Vec3::ZERO };
                 PixelMeans {
                     xyz: xyz(0),
                     stokes_xyz: [stokes(1), stokes(2), stokes(3)],
-                    bands: (3 * components..stride).map(value).collect(),
+                    bands: (colour * components..stride).map(value).collect(),
                 }
             })
             .collect();
@@ -561,6 +586,40 @@ mod tests {
         }
         let means = PixelMeans { xyz: film.xyz()[0], ..PixelMeans::default() };
         assert!((means.xyz.y - 1.0).abs() < 1e-3, "{}", means.xyz);
+    }
+
+    /// A monochromatic film sums its radiance L once per Stokes component (not XYZ = (L, L, L)),
+    /// camera samples and splats alike, bands after; its image is (L, L, L) per component.
+    #[test]
+    fn a_monochromatic_pixel_holds_its_radiance_once_per_component() {
+        let bands = SpectralBands { count: 2, min_nm: 500.0, max_nm: 600.0 };
+        let layout = FilmLayout { stokes: true, bands: Some(bands), monochromatic_nm: Some(550.0) };
+        assert_eq!((layout.values_per_pixel(), layout.luminance_index()), (4 + 8, 0));
+        let plain = FilmLayout { monochromatic_nm: None, ..layout };
+        assert_eq!((plain.values_per_pixel(), plain.luminance_index()), (12 + 8, 1));
+        let wavelengths = SampledWavelengths::monochromatic(550.0);
+        let light = Stokes { s: [2.0, 0.5, -0.25, 0.0].map(SampledSpectrum::splat) };
+        let mut sums = WindowSums::new(PixelWindow::full(2, 1), layout, true);
+        assert!(add_sample(
+            &mut sums.camera_mut()[..layout.values_per_pixel()],
+            &light,
+            &wavelengths,
+            &layout
+        ));
+        let mut splats = Splats::default();
+        splats.add(1, &light, &wavelengths, &layout);
+        assert_eq!(splats.luminance(0, &layout), (1, 2.0));
+        assert_eq!(sums.add_splats(&splats, 2), None);
+        // One sample per pixel, one light path: pixel 0 from the camera, pixel 1 from the splat.
+        let film = sums.film(1, 1, (2, 1));
+        for pixel in 0..2 {
+            assert_eq!(film.xyz()[pixel], Vec3::splat(2.0), "pixel {pixel}");
+            assert_eq!(film.stokes_xyz(1).unwrap()[pixel], Vec3::splat(0.5));
+            assert_eq!(film.stokes_xyz(2).unwrap()[pixel], Vec3::splat(-0.25));
+            // 550 nm lies in the second band, which holds the radiance itself.
+            assert_eq!((film.band(0, 0).unwrap()[pixel], film.band(0, 1).unwrap()[pixel]), (0.0, 2.0));
+            assert_eq!(film.band(1, 1).unwrap()[pixel], 0.5);
+        }
     }
 
     /// A NaN or infinite pixel is an error naming its column and row (row-major, top first);

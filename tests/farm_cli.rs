@@ -263,3 +263,32 @@ fn a_part_without_a_terminal_logs_its_progress_and_time_left() {
         stderr.lines().find(|line| line.starts_with("progress: ")).unwrap_or_else(|| panic!("{stderr}"));
     assert!(line.contains(" elapsed, about 0:0") && line.ends_with(" left"), "{line}");
 }
+
+/// A monochromatic render keeps one sum per Stokes component and pixel (its XYZ is (L, L, L)):
+/// its parts, with caustics and split by samples and by rows, still merge into the single
+/// render's pixels through the part files.
+#[test]
+fn monochromatic_caustic_parts_merge_into_the_single_render() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/validation/scenes/caustic_sphere.toml");
+    let render = |name: &str, extra: &[&str]| {
+        let out = dir.path().join(name);
+        let mut args =
+            vec!["render", scene, "--width", "32", "--height", "24", "--spp", "4", "--wavelength", "550"];
+        args.extend_from_slice(&["--light-paths", "600", "-q", "-o", out.to_str().unwrap()]);
+        args.extend_from_slice(extra);
+        ok(&args);
+        out
+    };
+    let single = render("single.exr", &["--part"]);
+    let a = render("a.exr", &["--samples", "0..1"]);
+    let b = render("b.exr", &["--samples", "1..4", "--crop", "0,0,32,9"]);
+    let c = render("c.exr", &["--samples", "1..4", "--crop", "0,9,32,24", "--threads", "1"]);
+    let merged = dir.path().join("merged.exr");
+    let paths = [&c, &a, &b].map(|p| p.to_str().unwrap().to_owned());
+    ok(&["merge", "--complete", &paths[0], &paths[1], &paths[2], "-o", merged.to_str().unwrap()]);
+    for key in ["imageSha256", "sumsBlake3", "samples"] {
+        assert_eq!(info(&merged, key), info(&single, key), "{key}");
+    }
+    assert!(ok(&["info", single.to_str().unwrap()]).contains("\"caustics\":true"));
+}

@@ -2,7 +2,8 @@
 //! per-pixel sums added as 32-bit unsigned channels, up to six per value (the words of a
 //! [`FixedSum`], least significant first): `sums.c0000.w0` … `sums.c0000.w5` for the camera
 //! samples' value 0 (XYZ of S0, then of S1–S3, then the bands, as
-//! [`crate::film::FilmLayout::values_per_pixel`] orders them), and `sums.l…` for the light
+//! [`crate::film::FilmLayout::values_per_pixel`] orders them; a monochromatic render's radiance
+//! in place of each XYZ), and `sums.l…` for the light
 //! tracer's. A word channel is left out when every pixel's word is implied ([`implied_word`]):
 //! zero for word 0, the sign extension of the word below for the others. Part files are written
 //! uncompressed: compressing the sums cost more time than splitting a render may add. The

@@ -21,8 +21,9 @@ use super::{PixelWindow, SampleSet};
 /// The format of the sums a part holds: 192-bit fixed point with 2⁻⁶⁴ quanta, as up to six
 /// 32-bit words per value ([`crate::fixed::FixedSum`], [`crate::part::file`]), with a digest of
 /// the stored channels (`-v2`: the first format's digest covered all six words of every value,
-/// implied or not). A different format is a different renderer.
-pub const SUMS_FORMAT: &str = "fixed192-q64-v2";
+/// implied or not; `-v3`: a monochromatic render's pixel holds its radiance once per Stokes
+/// component, where `-v2` held (L, L, L) as XYZ). A different format is a different renderer.
+pub const SUMS_FORMAT: &str = "fixed192-q64-v3";
 
 /// The renderer's version (Cargo).
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");
