@@ -90,9 +90,10 @@ impl FilmLayout {
     pub fn values_per_pixel(&self) -> usize {
         self.colour_values() * self.components() + self.band_values()
     }
-    /// Where the luminance (CIE Y of S0) sits among a pixel's values.
+    /// Where the luminance (CIE Y of S0) sits among a pixel's values: the place of the Y axis
+    /// among [`Self::colour_axes`], which always hold it.
     pub fn luminance_index(&self) -> usize {
-        self.colour_values() / 2
+        self.colour_axes().iter().position(|&axis| axis == 1).unwrap_or(0)
     }
 }
 
