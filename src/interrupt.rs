@@ -1,6 +1,6 @@
 //! Ctrl-C and SIGTERM: what the binary's one signal handler does ([`on_signal`]).
 //!
-//! Normally the process is abandoned: [`crate::output::file::remove_temporaries`] removes the
+//! Normally the process is abandoned: [`crate::output::file::abandon_and_exit`] removes the
 //! outputs being written, and the process exits with 130. While a render that can stop early
 //! runs ([`accept_stops`]), the first signal only asks it to stop at the end of the sample block
 //! in progress ([`stop_requested`]): it then writes what it has as a part and exits non-zero. A
@@ -24,8 +24,7 @@ pub fn on_signal() {
         );
         return;
     }
-    crate::output::file::remove_temporaries();
-    std::process::exit(130);
+    crate::output::file::abandon_and_exit(130);
 }
 
 /// While the returned guard lives, a signal asks the render to stop instead of exiting.

@@ -16,8 +16,8 @@
 //!   in place (its bytes staged in memory until the commit). A symbolic link is followed: the
 //!   file it points to is replaced, the link stays.
 //! - **Interrupted, nothing is left behind.** Temporary files are registered while they exist;
-//!   [`remove_temporaries`] deletes them, and the binary calls it from its Ctrl-C / SIGTERM
-//!   handler before exiting. (A registry of paths is the one piece of global state here: a
+//!   [`abandon_and_exit`] deletes them and exits, and the binary calls it from its Ctrl-C /
+//!   SIGTERM handler. (A registry of paths is the one piece of global state here: a
 //!   signal handler has no other way to reach them.)
 
 use std::fs::{File, OpenOptions};
@@ -28,24 +28,33 @@ use std::sync::Mutex;
 
 use super::OutputError;
 
-/// Temporary files that exist now, for [`remove_temporaries`].
+/// Temporary files that exist now, for [`abandon_and_exit`].
 static TEMPORARIES: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 /// Numbers temporary files within this process.
 static NEXT_TEMPORARY: AtomicU64 = AtomicU64::new(0);
 
-/// Deletes every temporary file this process has open for writing (for a signal handler: the
-/// process is about to exit, and its outputs are abandoned).
-pub fn remove_temporaries() {
+/// Deletes every temporary file this process has open for writing and exits with `code` (for
+/// a signal handler: the outputs are abandoned). The registry stays locked until the process
+/// is gone, so no temporary file can be created meanwhile: the handler runs on a thread of its
+/// own, and the render's thread could otherwise stage the next output while the process exits
+/// and leave its file behind (seen once in CI, in `interrupt_during_write_leaves_tmp`).
+pub fn abandon_and_exit(code: i32) -> ! {
     let paths = match TEMPORARIES.lock() {
         Ok(paths) => paths,
         Err(poisoned) => poisoned.into_inner(),
     };
-    for path in paths.iter() {
+    remove_all(&paths);
+    std::process::exit(code)
+}
+
+/// Deletes the files `paths`.
+fn remove_all(paths: &[PathBuf]) {
+    for path in paths {
         let _ = std::fs::remove_file(path);
     }
 }
 
-/// A temporary file path that [`remove_temporaries`] knows about until it is dropped (which
+/// A temporary file path that [`abandon_and_exit`] knows about until it is dropped (which
 /// removes the file unless [`Temporary::keep`] was called after renaming it).
 struct Temporary {
     path: PathBuf,
@@ -53,14 +62,20 @@ struct Temporary {
 }
 
 impl Temporary {
-    /// A new, unused name beside `target`, registered before the file is created.
-    fn beside(target: &Path) -> Self {
+    /// A new file with an unused name beside `target`, created and registered together under the
+    /// registry's lock (so that [`abandon_and_exit`] sees every file that exists, and none is
+    /// created after it).
+    fn create_beside(target: &Path) -> std::io::Result<(Self, File)> {
         let stem = target.file_stem().map_or_else(|| "output".into(), |s| s.to_string_lossy().into_owned());
         let ext = target.extension().map(|e| format!(".{}", e.to_string_lossy())).unwrap_or_default();
         let number = NEXT_TEMPORARY.fetch_add(1, Ordering::Relaxed);
         let path = target.with_file_name(format!(".{stem}.tmp-{}-{number}{ext}", std::process::id()));
-        registry_update(|paths| paths.push(path.clone()));
-        Self { path, owned: true }
+        let file = registry_update(|paths| {
+            let file = OpenOptions::new().write(true).create_new(true).open(&path)?;
+            paths.push(path.clone());
+            Ok::<_, std::io::Error>(file)
+        })?;
+        Ok((Self { path, owned: true }, file))
     }
 
     /// The file was renamed away: nothing to remove any more.
@@ -78,7 +93,7 @@ impl Drop for Temporary {
     }
 }
 
-fn registry_update(change: impl FnOnce(&mut Vec<PathBuf>)) {
+fn registry_update<R>(change: impl FnOnce(&mut Vec<PathBuf>) -> R) -> R {
     match TEMPORARIES.lock() {
         Ok(mut paths) => change(&mut paths),
         Err(poisoned) => change(&mut poisoned.into_inner()),
@@ -187,12 +202,9 @@ fn probe_directory(path: &Path) -> Result<(), OutputError> {
             },
         }
     }
-    let probe = Temporary::beside(&ancestor.join("probe"));
-    OpenOptions::new()
-        .write(true)
-        .create_new(true)
-        .open(&probe.path)
+    let (probe, file) = Temporary::create_beside(&ancestor.join("probe"))
         .map_err(|e| refuse(format!("cannot create a file in {}: {e}", ancestor.display())))?;
+    drop(file);
     drop(probe);
     Ok(())
 }
@@ -270,9 +282,7 @@ impl Outputs {
                 if let Some(dir) = target.parent().filter(|d| !d.as_os_str().is_empty()) {
                     std::fs::create_dir_all(dir).map_err(io)?;
                 }
-                let temporary = Temporary::beside(&target);
-                let file =
-                    OpenOptions::new().write(true).create_new(true).open(&temporary.path).map_err(io)?;
+                let (temporary, file) = Temporary::create_beside(&target).map_err(io)?;
                 let mut sink = Sink::File(BufWriter::new(file));
                 encode(&mut sink)?;
                 let Sink::File(buffered) = sink else { unreachable!("a file sink stays one") };
@@ -440,8 +450,9 @@ mod tests {
             sink.write_all(b"half an image").unwrap();
             sink.flush().unwrap();
             assert_eq!(entries(dir.path()).len(), 1, "the temporary file exists while writing");
-            // What the Ctrl-C handler does before exiting:
-            remove_temporaries();
+            // What the Ctrl-C handler does before exiting (`abandon_and_exit`, which then keeps
+            // the registry locked; `interrupt_during_write_leaves_tmp` tests the whole of it):
+            registry_update(|paths| remove_all(paths));
             assert!(entries(dir.path()).is_empty(), "the handler removed it");
             Err(io_error("interrupted"))
         });
