@@ -90,6 +90,11 @@ impl FilmLayout {
     pub fn values_per_pixel(&self) -> usize {
         self.colour_values() * self.components() + self.band_values()
     }
+    /// The same layout without S1–S3: what the light tracer's sums hold when its splats
+    /// cannot be polarised ([`WindowSums::with_light_layout`]).
+    pub fn unpolarized(&self) -> FilmLayout {
+        FilmLayout { stokes: false, ..*self }
+    }
     /// Where the luminance (CIE Y of S0) sits among a pixel's values: the place of the Y axis
     /// among [`Self::colour_axes`], which always hold it.
     pub fn luminance_index(&self) -> usize {
@@ -199,7 +204,11 @@ impl Splats {
         layout: &FilmLayout,
     ) {
         self.pixels.push(pixel);
-        for component in beam.components() {
+        debug_assert!(
+            beam.components()[layout.components()..].iter().all(|c| c.is_zero()),
+            "a polarised splat in a film without S1–S3"
+        );
+        for component in &beam.components()[..layout.components()] {
             let xyz = cie::to_xyz(component, wavelengths).to_array();
             self.values.extend(layout.colour_axes().iter().map(|&axis| xyz[axis]));
         }
@@ -215,7 +224,7 @@ impl Splats {
             } else {
                 1.0 / wavelengths.pdf_per_nm(lane)
             };
-            for (k, component) in beam.components().iter().enumerate() {
+            for (k, component) in beam.components()[..layout.components()].iter().enumerate() {
                 self.values[start + k * bands.count + band] += component[lane] * inverse_pdf * scale;
             }
         }
@@ -224,15 +233,45 @@ impl Splats {
 
 /// The exact per-pixel sums of a render or a part over one [`PixelWindow`]: for every pixel,
 /// the [`FilmLayout::values_per_pixel`] sums of its camera samples (row-major), and, with
-/// caustics, as many sums of the light tracer's splats. These, with the sample count, are
+/// caustics, the sums of the light tracer's splats: as many, or in a polarised render whose
+/// splats cannot be polarised (no sheets between receiver and camera), those of S0 alone
+/// ([`Self::with_light_layout`]; S1–S3 of the light are then zero). These, with the sample count, are
 /// what a part file keeps and what merging adds: sums of [`FixedSum`]s do not depend on the
 /// order or grouping of their terms, so any split of a render adds up to the same bits.
-#[derive(Debug, Clone, PartialEq)]
+///
+/// Two sums are equal when they hold the same values, whether their light sums keep S1–S3 or
+/// not (a value left out is zero).
+#[derive(Debug, Clone)]
 pub struct WindowSums {
     window: PixelWindow,
     layout: FilmLayout,
     camera: Vec<FixedSum>,
+    light_layout: FilmLayout,
     light: Vec<FixedSum>,
+}
+
+impl PartialEq for WindowSums {
+    fn eq(&self, other: &Self) -> bool {
+        if self.window != other.window
+            || self.layout != other.layout
+            || self.camera != other.camera
+            || self.has_light() != other.has_light()
+        {
+            return false;
+        }
+        if self.light_layout == other.light_layout || !self.has_light() {
+            return self.light == other.light;
+        }
+        let (stride, ours, theirs) = (self.stride(), self.light_stride(), other.light_stride());
+        (0..self.window.pixels()).all(|pixel| {
+            (0..stride).all(|index| {
+                let value = |sums: &WindowSums, per_pixel: usize| {
+                    sums.light_slot(index).map_or(FixedSum::ZERO, |slot| sums.light[pixel * per_pixel + slot])
+                };
+                value(self, ours) == value(other, theirs)
+            })
+        })
+    }
 }
 
 /// A sum that left the range of [`FixedSum`] while merging parts.
@@ -246,14 +285,35 @@ pub struct SumOverflow {
 }
 
 impl WindowSums {
-    /// Zero sums over `window` for `layout`, with light-tracer sums when `light`.
+    /// Zero sums over `window` for `layout`, with light-tracer sums of the same layout when
+    /// `light`.
     pub fn new(window: PixelWindow, layout: FilmLayout, light: bool) -> Self {
+        Self::build(window, layout, layout, light)
+    }
+
+    /// Zero sums over `window` for `layout`, with light-tracer sums for `light_layout`: `layout`
+    /// itself, or [`FilmLayout::unpolarized`] of it when the light tracer's splats carry S0
+    /// alone (a third or a quarter of the memory in a polarised render).
+    ///
+    /// # Panics
+    /// If `light_layout` is neither.
+    pub fn with_light_layout(window: PixelWindow, layout: FilmLayout, light_layout: FilmLayout) -> Self {
+        assert!(
+            light_layout == layout || light_layout == layout.unpolarized(),
+            "light sums of another layout"
+        );
+        Self::build(window, layout, light_layout, true)
+    }
+
+    fn build(window: PixelWindow, layout: FilmLayout, light_layout: FilmLayout, light: bool) -> Self {
         let values = window.pixels() * layout.values_per_pixel();
+        let light_values = window.pixels() * light_layout.values_per_pixel();
         Self {
             window,
             layout,
             camera: filled_on_huge_pages(FixedSum::ZERO, values),
-            light: if light { filled_on_huge_pages(FixedSum::ZERO, values) } else { Vec::new() },
+            light_layout,
+            light: if light { filled_on_huge_pages(FixedSum::ZERO, light_values) } else { Vec::new() },
         }
     }
 
@@ -277,9 +337,47 @@ impl WindowSums {
     pub fn camera_mut(&mut self) -> &mut [FixedSum] {
         &mut self.camera
     }
-    /// The light tracer's sums (empty without caustics).
+    /// The light tracer's sums (empty without caustics), [`Self::light_stride`] per pixel.
     pub fn light(&self) -> &[FixedSum] {
         &self.light
+    }
+    /// What the light tracer's sums hold per pixel.
+    pub fn light_layout(&self) -> &FilmLayout {
+        &self.light_layout
+    }
+    /// Light-tracer values per pixel.
+    pub fn light_stride(&self) -> usize {
+        self.light_layout.values_per_pixel()
+    }
+    /// The index among a pixel's values (of [`Self::layout`]) of its light-tracer value `slot`.
+    pub fn light_value_index(&self, slot: usize) -> usize {
+        if self.light_layout == self.layout {
+            return slot;
+        }
+        // S0 alone: S0's colour values, then S0's bands (after every component's colour values).
+        let colour = self.layout.colour_values();
+        if slot < colour {
+            slot
+        } else {
+            colour * self.layout.components() + (slot - colour)
+        }
+    }
+    /// The light-tracer slot of value `index` (of [`Self::layout`]), or `None` for a value the
+    /// light sums leave out (S1–S3 when they hold S0 alone: zero).
+    pub fn light_slot(&self, index: usize) -> Option<usize> {
+        if self.light_layout == self.layout {
+            return Some(index);
+        }
+        let colour = self.layout.colour_values();
+        let bands_start = colour * self.layout.components();
+        let bands = self.layout.bands.map_or(0, |bands| bands.count);
+        if index < colour {
+            Some(index)
+        } else if (bands_start..bands_start + bands).contains(&index) {
+            Some(colour + index - bands_start)
+        } else {
+            None
+        }
     }
     /// True when the sums hold light-tracer splats.
     pub fn has_light(&self) -> bool {
@@ -290,7 +388,7 @@ impl WindowSums {
     /// image); splats outside the window are dropped. Returns the first pixel whose sums could
     /// not take a value, if any.
     pub fn add_splats(&mut self, splats: &Splats, display_width: u32) -> Option<(u32, u32)> {
-        let stride = self.stride();
+        let stride = self.light_stride();
         let mut failed = None;
         for (pixel, values) in splats.pixels.iter().zip(splats.values.chunks_exact(stride)) {
             let (x, y) = (pixel % display_width, pixel / display_width);
@@ -310,21 +408,28 @@ impl WindowSums {
     }
 
     /// Adds `other`, whose window must lie inside this one and whose layout and light sums
-    /// must match (checked by the caller: parts of one render). Errors name the first pixel
-    /// whose sum overflows.
+    /// must match (checked by the caller: parts of one render), except that light sums of S0
+    /// alone add to full ones. Errors name the first pixel whose sum overflows.
     pub fn add(&mut self, other: &WindowSums) -> Result<(), SumOverflow> {
-        assert_eq!(self.stride(), other.stride(), "parts of different layouts");
+        assert_eq!(self.layout, other.layout, "parts of different layouts");
+        assert!(self.light_stride() >= other.light_stride(), "adding full light sums to S0 alone");
         let stride = self.stride();
         self.add_with(other.window, false, |pixel, value| other.camera[pixel * stride + value])?;
         if other.has_light() {
-            self.add_with(other.window, true, |pixel, value| other.light[pixel * stride + value])?;
+            let light_stride = other.light_stride();
+            let from: Vec<Option<usize>> =
+                (0..self.light_stride()).map(|slot| other.light_slot(self.light_value_index(slot))).collect();
+            self.add_with(other.window, true, |pixel, slot| {
+                from[slot].map_or(FixedSum::ZERO, |k| other.light[pixel * light_stride + k])
+            })?;
         }
         Ok(())
     }
 
     /// Adds to the camera sums (or the light sums, when `light`) of the pixels of `window`,
     /// which must lie inside this one, the values `value_of(pixel, value)`, pixels numbered
-    /// row-major in `window`. Errors name the first pixel whose sum overflows.
+    /// row-major in `window`, values as the sums number them (light values by their slot,
+    /// [`Self::light_value_index`]). Errors name the first pixel whose sum overflows.
     pub fn add_with(
         &mut self,
         window: PixelWindow,
@@ -332,7 +437,7 @@ impl WindowSums {
         value_of: impl Fn(usize, usize) -> FixedSum,
     ) -> Result<(), SumOverflow> {
         assert!(self.window.contains_window(&window), "a part outside the merged window");
-        let stride = self.stride();
+        let stride = if light { self.light_stride() } else { self.stride() };
         let width = window.width() as usize;
         let target = if light { &mut self.light } else { &mut self.camera };
         for (row, y) in (window.y0..window.y1).enumerate() {
@@ -357,6 +462,8 @@ impl WindowSums {
     /// light paths. A function of the sums and counts alone, so the same sums give the same bits.
     pub fn film(&self, samples: u64, light_paths_per_pass: u64, display: (u32, u32)) -> Film {
         let stride = self.stride();
+        let light_stride = self.light_stride();
+        let light_slots: Vec<Option<usize>> = (0..stride).map(|index| self.light_slot(index)).collect();
         let components = self.layout.components();
         let colour = self.layout.colour_values();
         let n = samples as f64;
@@ -364,12 +471,12 @@ impl WindowSums {
         let pixels = (0..self.window.pixels())
             .map(|index| {
                 let camera = &self.camera[index * stride..(index + 1) * stride];
-                let light = self.light.get(index * stride..(index + 1) * stride);
+                let light = self.light.get(index * light_stride..(index + 1) * light_stride);
                 let value = |i: usize| {
                     let mut mean = camera[i].mean(n) as f32;
-                    if let Some(light) = light {
-                        if !light[i].is_zero() {
-                            mean += light[i].mean(paths) as f32;
+                    if let (Some(light), Some(slot)) = (light, light_slots[i]) {
+                        if !light[slot].is_zero() {
+                            mean += light[slot].mean(paths) as f32;
                         }
                     }
                     mean
@@ -621,6 +728,67 @@ mod tests {
             assert_eq!((film.band(0, 0).unwrap()[pixel], film.band(0, 1).unwrap()[pixel]), (0.0, 2.0));
             assert_eq!(film.band(1, 1).unwrap()[pixel], 0.5);
         }
+    }
+
+    /// Light sums of S0 alone (a polarised render whose splats are unpolarised): the same image
+    /// and the same sums as full ones, a third (or with bands, fewer) of the values; added to
+    /// full sums (a merge) they land on S0's values; their slots map to and from the full
+    /// layout's values, bands included.
+    #[test]
+    fn light_sums_of_s0_alone_hold_the_same_values() {
+        let bands = SpectralBands { count: 3, min_nm: 400.0, max_nm: 700.0 };
+        let layout = FilmLayout { stokes: true, bands: Some(bands), monochromatic_nm: None };
+        let window = PixelWindow::full(3, 2);
+        let mut full = WindowSums::new(window, layout, true);
+        let mut compact = WindowSums::with_light_layout(window, layout, layout.unpolarized());
+        assert_eq!((full.light_stride(), compact.light_stride()), (12 + 12, 3 + 3));
+        assert_eq!(compact.light().len(), 6 * 6);
+        // Slots 0–2 are S0's XYZ (values 0–2), slots 3–5 S0's bands (values 12–14).
+        assert_eq!(
+            (0..6).map(|slot| compact.light_value_index(slot)).collect::<Vec<_>>(),
+            [0, 1, 2, 12, 13, 14]
+        );
+        for index in 0..24 {
+            let expected = match index {
+                0..=2 => Some(index),
+                12..=14 => Some(index - 9),
+                _ => None,
+            };
+            assert_eq!(compact.light_slot(index), expected, "value {index}");
+        }
+        let wavelengths = SampledWavelengths::sample_visible(0.3, N_LAMBDA);
+        let unpolarized =
+            Stokes::unpolarized(SampledSpectrum { values: std::array::from_fn(|i| 1.0 + i as f32) });
+        let (mut into_full, mut into_compact) = (Splats::default(), Splats::default());
+        for pixel in [0, 4, 4, 5] {
+            into_full.add(pixel, &unpolarized, &wavelengths, &layout);
+            into_compact.add(pixel, &unpolarized, &wavelengths, &compact.light_layout);
+        }
+        assert_eq!(into_compact.values.len(), 4 * 6);
+        assert_eq!(full.add_splats(&into_full, 3), None);
+        assert_eq!(compact.add_splats(&into_compact, 3), None);
+        assert!(compact == full, "S0 alone against full");
+        assert!(full == compact, "full against S0 alone");
+        let bits = |film: &Film| {
+            let mut bits: Vec<u32> = film.xyz().iter().flat_map(|v| v.to_array().map(f32::to_bits)).collect();
+            for k in 0..4 {
+                bits.extend(film.stokes_xyz(k).unwrap().iter().flat_map(|v| v.to_array().map(f32::to_bits)));
+                for band in 0..3 {
+                    bits.extend(film.band(k, band).unwrap().iter().map(|v| v.to_bits()));
+                }
+            }
+            bits
+        };
+        assert_eq!(bits(&compact.film(1, 4, (3, 2))), bits(&full.film(1, 4, (3, 2))));
+        // A merge: S0-alone sums added to full ones.
+        let mut merged = WindowSums::new(window, layout, true);
+        merged.add(&compact).unwrap();
+        assert!(merged == full);
+        assert_eq!(merged.light(), full.light());
+        // A different value is seen as one.
+        let mut other = compact.clone();
+        other.add_splats(&into_compact, 3);
+        assert!(other != full);
     }
 
     /// A NaN or infinite pixel is an error naming its column and row (row-major, top first);

@@ -159,14 +159,18 @@ pub enum RenderError {
 }
 
 /// Bytes of memory a render of `width`×`height` pixels of `layout` on `threads` threads needs, with its
-/// EXR and PNG output ([`memory::estimate`]), and its exact sums (twice, with `light` sums, and
-/// once more for a part file's channels).
-pub fn memory_needed(width: u32, height: u32, layout: &FilmLayout, threads: usize, light: bool) -> u64 {
-    let sums = u64::from(width)
-        * u64::from(height)
-        * layout.values_per_pixel() as u64
-        * std::mem::size_of::<FixedSum>() as u64
-        * if light { 3 } else { 2 };
+/// EXR and PNG output ([`memory::estimate`]), and its exact sums: the camera's, the light
+/// tracer's of `light` (if any), and as much again for a part file's channels.
+pub fn memory_needed(
+    width: u32,
+    height: u32,
+    layout: &FilmLayout,
+    threads: usize,
+    light: Option<&FilmLayout>,
+) -> u64 {
+    let values = layout.values_per_pixel() + light.map_or(0, FilmLayout::values_per_pixel);
+    let sums =
+        u64::from(width) * u64::from(height) * values as u64 * std::mem::size_of::<FixedSum>() as u64 * 2;
     memory::estimate(width, height, layout.band_values(), threads as u64 * THREAD_STACK_BYTES as u64) + sums
 }
 
@@ -227,10 +231,11 @@ pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
         0
     };
     let layout = job.layout();
+    let light_layout = (light_paths_per_pass > 0).then(|| tracer.splat_layout(&layout));
     memory::check(
         window.width(),
         window.height(),
-        memory_needed(window.width(), window.height(), &layout, threads, light_paths_per_pass > 0),
+        memory_needed(window.width(), window.height(), &layout, threads, light_layout.as_ref()),
     )?;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(job.threads)
@@ -274,7 +279,10 @@ pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
         light.trace(&pool, job, None, learning, (width, height), &ProgressBar::hidden())?;
         light_elapsed = start.elapsed();
     }
-    let mut sums = WindowSums::new(window, layout, light_paths_per_pass > 0);
+    let mut sums = match light_layout {
+        Some(light_layout) => WindowSums::with_light_layout(window, layout, light_layout),
+        None => WindowSums::new(window, layout, false),
+    };
     // Blocks go through the samples in order: the first `done` of them are done.
     let mut done = 0u64;
     let mut interrupted = false;
@@ -526,7 +534,7 @@ fn light_block(
     progress: &ProgressBar,
     record: bool,
 ) -> Result<(u64, guide::Record), RenderError> {
-    let layout = job.layout();
+    let layout = tracer.splat_layout(&job.layout());
     let first_block = paths.start / LIGHT_PATH_BLOCK;
     let end_block = paths.end.div_ceil(LIGHT_PATH_BLOCK);
     let shared = Mutex::new(LightSums { sums, rays: 0, failed: None, records: Vec::new() });
@@ -535,7 +543,7 @@ fn light_block(
         blocks.par_iter().with_max_len(1).for_each(|&block| {
             let first = paths.start.max(block * LIGHT_PATH_BLOCK);
             let end = paths.end.min((block + 1) * LIGHT_PATH_BLOCK);
-            let (splats, stats, block_record) = if layout.stokes {
+            let (splats, stats, block_record) = if job.polarized() {
                 trace_block::<Stokes>(tracer, job, &layout, first..end, record)
             } else {
                 trace_block::<SampledSpectrum>(tracer, job, &layout, first..end, record)

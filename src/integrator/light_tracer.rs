@@ -211,6 +211,17 @@ impl<'a> LightTracer<'a> {
         u
     }
 
+    /// What its splats hold per pixel in a render of `layout`: S0 alone unless polarising
+    /// sheets can filter the light on its way to the camera (a diffuse receiver sends
+    /// unpolarised light, [`Self::trace_path`]).
+    pub fn splat_layout(&self, layout: &FilmLayout) -> FilmLayout {
+        if self.has_sheets {
+            *layout
+        } else {
+            layout.unpolarized()
+        }
+    }
+
     /// True when its paths start by a learned guide rather than uniformly.
     pub fn is_guided(&self) -> bool {
         !self.guide.is_uniform()

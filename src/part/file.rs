@@ -81,11 +81,14 @@ pub fn implied_word(words: &[u32; 6], word: usize) -> u32 {
 /// ([`implied_word`]).
 pub fn sum_channels(sums: &WindowSums) -> Vec<(String, Vec<u32>)> {
     let mut channels = Vec::new();
-    let stride = sums.stride();
     for (light, values) in [(false, sums.camera()), (true, sums.light())] {
         if values.is_empty() {
             continue;
         }
+        let stride = if light { sums.light_stride() } else { sums.stride() };
+        // Channels are named by the value's index in the full layout (light sums of S0 alone
+        // leave out S1–S3, whose channels would all be implied zeros).
+        let index_of = |value: usize| if light { sums.light_value_index(value) } else { value };
         let pixels = values.len() / stride;
         // Which channels hold a word that is not implied: only those are built.
         let mut needed = vec![false; stride * 6];
@@ -110,7 +113,7 @@ pub fn sum_channels(sums: &WindowSums) -> Vec<(String, Vec<u32>)> {
         }
         for (index, words) in words.into_iter().enumerate() {
             if let Some(words) = words {
-                channels.push((sum_channel_name(light, index / 6, index % 6), words));
+                channels.push((sum_channel_name(light, index_of(index / 6), index % 6), words));
             }
         }
     }
@@ -341,7 +344,22 @@ impl StoredPart {
                     words[*value][*word] = Some(data);
                 }
             }
-            let sum = |pixel: usize, value: usize| {
+            // The sums' own numbering of values (light values by their slot) to the file's.
+            let count = if light { sums.light_stride() } else { sums.stride() };
+            let index_of: Vec<usize> =
+                (0..count).map(|slot| if light { sums.light_value_index(slot) } else { slot }).collect();
+            if light {
+                if let Some(((_, value, _), _)) = self.channels.iter().find(|((kind, value, _), data)| {
+                    *kind && !index_of.contains(value) && data.iter().any(|&word| word != 0)
+                }) {
+                    return Err(PartError {
+                        path: self.path.clone(),
+                        problem: format!("light value {value} is polarised where this render's light is not"),
+                    });
+                }
+            }
+            let sum = |pixel: usize, slot: usize| {
+                let value = index_of[slot];
                 let mut pixel_words = [0u32; 6];
                 for (w, channel) in words[value].iter().enumerate() {
                     pixel_words[w] = match channel {
