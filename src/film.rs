@@ -195,7 +195,9 @@ impl Splats {
         (self.pixels[k], self.values[k * layout.values_per_pixel() + layout.luminance_index()])
     }
 
-    /// Adds the light `beam` (radiance at the camera, per lane) that lands in pixel `pixel`.
+    /// Adds the light `beam` (radiance at the camera, per lane) that lands in pixel `pixel`, as
+    /// `layout` holds it: the Stokes components beyond [`FilmLayout::components`] must be zero
+    /// (S0 alone for the light sums of [`WindowSums::with_light_layout`]).
     pub fn add<B: Beam>(
         &mut self,
         pixel: u32,
