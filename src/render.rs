@@ -448,7 +448,7 @@ impl<'a> LightPasses<'a> {
     /// caustics).
     fn new(tracer: LightTracer<'a>, job: &Job, per_pass: u64) -> Self {
         let learning_paths = if per_pass > 0 && job.settings.light_guide {
-            per_pass.clamp(guide::MIN_LEARNING_PATHS, guide::MAX_LEARNING_PATHS)
+            guide::LEARNING_PATHS
         } else {
             0
         };

@@ -14,9 +14,8 @@
 //! `DEFENSIVE_FRACTION` of the uniform density.
 //!
 //! # Learning
-//! The render's first light paths, a pass's worth but at least `MIN_LEARNING_PATHS` and at most
-//! `MAX_LEARNING_PATHS`, start uniformly, as without a guide, and count in the image like any
-//! other; [`Record`] keeps the cell each started in, the rays it cost, and the pixel and
+//! The render's first `LEARNING_PATHS` light paths (16 per cell) start uniformly, as without a
+//! guide, and count in the image like any other; [`Record`] keeps the cell each started in, the rays it cost, and the pixel and
 //! luminance Y of each of its splats. [`learn`] makes from them a rough light image m (per
 //! path, blurred; in blocks of pixels beyond `LEARNING_IMAGE_SIZE`) and, per cell c, the mean
 //! over its paths of Σ Y² / (m² + `DISPLAY_FLOOR`) over their splats, M_c: the second moment
@@ -35,20 +34,28 @@
 //! gain measured is smaller (on the caustic bench's ball predicted 2.0, measured 1.4–1.7× less
 //! error at equal spp and 1.0–1.25× less time at equal error; validation/bench/RESULTS.md).
 //!
+//! Why so few, whatever the size of a pass: a path that starts uniformly is worth about half a
+//! guided one where the guide helps, and a guide learned from 4,096 paths was as good as one
+//! learned from 262,144 (the cells are coarse and their moments blurred). The render's first
+//! pass used to teach it: learning from 4,096 paths instead left 16–20 % less error at 2–4 spp
+//! and 8 % at 16 spp on `glass_sphere_spot` (262,144 learning paths before, relMSE against a
+//! 96-spp render, two seeds), 3–5 % on `tp6_mirror_glass_caustics` at 2, 4 and 16 spp, and 6–8 %
+//! on the caustic bench's ball at 2, 4 and 8 spp (6,144 before, six seeds). Fewer still (1,024 or
+//! 2,048, by a lower floor) helped the ball a little more at 2 spp but not `glass_sphere_spot`,
+//! and made the predicted gain noisier (1.42 for `tp6_mirror_glass_caustics` where 4,096 paths
+//! and more predict 1.35, below 1 for the Newton prism): 16 paths per cell stays the floor.
+//!
 //! The learning paths are the render's paths 0..n, whatever part of the render is running: a
 //! part that does not hold them all traces them for learning only (their splats are dropped),
 //! so every part of a split render learns the same guide and the image stays the same bits
 //! whatever the threads or the split. (So does a render with fewer light paths in all than
-//! `MIN_LEARNING_PATHS`: at most 4,096 paths' work, about 2 ms on the caustic bench's ball.)
+//! `LEARNING_PATHS`: at most 4,096 paths' work, about 2 ms on the caustic bench's ball.)
 
 /// Cells of the guide along each of (u₀, u₁).
 pub const GUIDE_BINS: usize = 16;
-/// Fewest light paths the guide learns from: 16 per cell (Sobol points fill every cell
-/// equally), even where a pass has fewer.
-pub const MIN_LEARNING_PATHS: u64 = 4096;
-/// Most light paths the guide learns from, even where a pass has more (a record keeps 12 bytes
-/// per splat: about 25 MB for the Newton prism's 240,000 paths of eight dispersed wavelengths).
-pub const MAX_LEARNING_PATHS: u64 = 1 << 18;
+/// The light paths the guide learns from, the render's first: 16 per cell (Sobol points fill
+/// every cell equally), whatever the size of a pass (module docs, "Learning").
+pub const LEARNING_PATHS: u64 = 4096;
 /// The share of the uniform density every cell keeps (defensive sampling: a cell the learning
 /// paths under-rated still gets paths, with a bounded weight of at most 1/`DEFENSIVE_FRACTION`).
 pub const DEFENSIVE_FRACTION: f32 = 0.1;
@@ -264,7 +271,7 @@ pub struct Learned {
 pub fn learn(record: &Record, display: (u32, u32)) -> Learned {
     let nothing = Learned { guide: EmissionGuide::uniform(), predicted_gain: None };
     let paths = record.paths();
-    if paths < MIN_LEARNING_PATHS || record.landings.is_empty() {
+    if paths < LEARNING_PATHS || record.landings.is_empty() {
         return nothing;
     }
     // The light image per display pixel, on a grid of `step` × `step` blocks of pixels at most
@@ -480,7 +487,7 @@ mod tests {
 
     #[test]
     fn too_few_paths_or_no_splat_learn_nothing() {
-        let few = record(MIN_LEARNING_PATHS as usize / (GUIDE_BINS * GUIDE_BINS) - 1, |_| 2, |c, _| c as f32);
+        let few = record(LEARNING_PATHS as usize / (GUIDE_BINS * GUIDE_BINS) - 1, |_| 2, |c, _| c as f32);
         assert_eq!(learn(&few, (1, 1)), Learned { guide: EmissionGuide::uniform(), predicted_gain: None });
         let dark = record(32, |_| 2, |_, _| 0.0);
         assert_eq!(learn(&dark, (1, 1)).predicted_gain, None);
