@@ -292,3 +292,51 @@ fn monochromatic_caustic_parts_merge_into_the_single_render() {
     }
     assert!(ok(&["info", single.to_str().unwrap()]).contains("\"caustics\":true"));
 }
+
+/// A polarised render with caustics and no polarising sheet keeps its light sums for S0 alone
+/// (its splats are unpolarised), bands included: interrupted, written as a part and resumed (the part read back
+/// with full light sums, the new samples' added to them), it still gives the single render's
+/// pixels and sums.
+#[test]
+fn a_polarised_caustic_render_resumes_into_the_single_render() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/validation/scenes/caustic_sphere.toml");
+    // With spectral bands, whose S0 values follow every component's colour in a pixel.
+    let base = [
+        "render",
+        scene,
+        "--width",
+        "32",
+        "--height",
+        "24",
+        "--spp",
+        "4",
+        "--light-paths",
+        "600",
+        "--spectral-bands",
+        "4",
+    ];
+    let whole = dir.path().join("whole.exr");
+    let mut args = base.to_vec();
+    args.extend_from_slice(&["-q", "--part", "-o", whole.to_str().unwrap()]);
+    ok(&args);
+    assert!(ok(&["info", whole.to_str().unwrap()]).contains("\"polarized\":true"));
+    let out = dir.path().join("image.exr");
+    let output = Command::new(env!("CARGO_BIN_EXE_prisma"))
+        .args(base)
+        .args(["-o", out.to_str().unwrap()])
+        .env("PRISMA_TEST_STOP_AFTER_BLOCKS", "1")
+        .output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(130), "{}", String::from_utf8_lossy(&output.stderr));
+    let partial = dir.path().join("image.partial.exr");
+    assert_eq!(info(&partial, "samples"), "0..1");
+    let resumed = dir.path().join("resumed.exr");
+    let mut args = base.to_vec();
+    args.extend_from_slice(&["-q", "--resume", partial.to_str().unwrap(), "-o", resumed.to_str().unwrap()]);
+    ok(&args);
+    assert_eq!(info(&resumed, "samples"), "0..4");
+    for key in ["imageSha256", "sumsBlake3"] {
+        assert_eq!(info(&resumed, key), info(&whole, key), "{key}");
+    }
+}
