@@ -15,16 +15,16 @@
 //!
 //! # Learning
 //! The render's first `LEARNING_PATHS` light paths (16 per cell) start uniformly, as without a
-//! guide, and count in the image like any other; [`Record`] keeps the cell each started in, the rays it cost, and the pixel and
-//! luminance Y of each of its splats. [`learn`] makes from them a rough light image m (per
-//! path, blurred; in blocks of pixels beyond `LEARNING_IMAGE_SIZE`) and, per cell c, the mean
-//! over its paths of Σ Y² / (m² + `DISPLAY_FLOOR`) over their splats, M_c: the second moment
-//! of a path's contribution to the relMSE of validation's benches (errors below a tenth of
-//! display white, pixel value 1, counting absolutely), for paths that each reach few pixels. With C_c the cell's cost per
-//! path (its rays, plus `PATH_COST_RAYS` for the rest of a path's work), the density
-//! proportional to √(M_c / C_c) minimises variance × cost, the time to a given error; the
-//! guide takes M_c blurred over neighbouring cells, each cell's estimate resting on a few
-//! dozen paths.
+//! guide, and count in the image like any other; [`Record`] keeps the cell each started in, the
+//! rays it cost, and the pixel and luminance Y of each of its splats. [`learn`] makes from them a
+//! rough light image m (per path, blurred; in blocks of pixels beyond `LEARNING_IMAGE_SIZE`) and,
+//! per cell c, the mean over its paths of Σ Y² / (m² + `DISPLAY_FLOOR`) over their splats, M_c: the
+//! second moment of a path's contribution to the relMSE of validation's benches (errors below a
+//! tenth of display white, pixel value 1, counting absolutely), for paths that each reach few
+//! pixels. With C_c the cell's cost per path (its rays, plus `PATH_COST_RAYS` for the rest of a
+//! path's work), the density proportional to √(M_c / C_c) minimises variance × cost, the time to a
+//! given error; the guide takes M_c blurred over neighbouring cells, each cell's estimate resting
+//! on its 16 paths (about 140 with its neighbours).
 //!
 //! The same sums predict the gain: variance × cost with the uniform density over that with the
 //! guide's (variance = second moment − Σ m² / (m² + floor)). Below `MIN_PREDICTED_GAIN` the

@@ -39,7 +39,7 @@
 //! intensity the point sends to the camera; then [`crate::camera::FilmPoint::sensitivity`]: the
 //! pinhole's importance with its cosine, over d²). The diffuse receiver depolarises: the camera
 //! gets unpolarised light (S0), changed only by sheets on the way. The film divides the sums by
-//! the number of light paths traced ([`crate::film::SplatSums::add_to`]).
+//! the number of light paths traced ([`crate::film::WindowSums::film`]).
 //!
 //! # Where paths start
 //! Emission aims paths at the mirrors and glass ([`super::emission`]); within that, the first
