@@ -264,14 +264,13 @@ impl PartialEq for WindowSums {
         if self.light_layout == other.light_layout || !self.has_light() {
             return self.light == other.light;
         }
-        let (stride, ours, theirs) = (self.stride(), self.light_stride(), other.light_stride());
+        // Value `index` of light sums `sums` at `pixel`, zero where they leave it out.
+        let value = |sums: &WindowSums, pixel: usize, index: usize| {
+            sums.light_slot(index)
+                .map_or(FixedSum::ZERO, |slot| sums.light[pixel * sums.light_stride() + slot])
+        };
         (0..self.window.pixels()).all(|pixel| {
-            (0..stride).all(|index| {
-                let value = |sums: &WindowSums, per_pixel: usize| {
-                    sums.light_slot(index).map_or(FixedSum::ZERO, |slot| sums.light[pixel * per_pixel + slot])
-                };
-                value(self, ours) == value(other, theirs)
-            })
+            (0..self.stride()).all(|index| value(self, pixel, index) == value(other, pixel, index))
         })
     }
 }
