@@ -249,6 +249,7 @@ pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
         job.settings.prune_below,
         job.settings.area_light_samples,
     )
+    .with_monochromatic(job.monochromatic_nm)
     .with_fault(job.fault);
 
     // Progress in camera samples and light paths. (A light path costs about what a camera
@@ -629,6 +630,8 @@ fn render_row<B: Beam>(
     let mut stats = TraceStats::default();
     let mut failed = None;
     let stride = layout.values_per_pixel();
+    // A monochromatic render's one wavelength, made once (with its place on the spectral grid).
+    let monochromatic = job.monochromatic_nm.map(SampledWavelengths::monochromatic);
     for (i, pixel_sums) in row_sums.chunks_exact_mut(stride).enumerate() {
         let x = x0 + i as u32;
         let key = PixelKey::new(settings.seed, x, y);
@@ -638,14 +641,18 @@ fn render_row<B: Beam>(
             let (jx, jy) = (rng.uniform(), rng.uniform());
             // Dimension 2 (`sampler::WAVELENGTH_DIMENSION`): evenly spaced over the pixel's samples.
             let u_lambda = rng.uniform();
-            let wavelengths = match job.monochromatic_nm {
-                Some(nm) => SampledWavelengths::monochromatic(nm),
-                None => SampledWavelengths::sample_visible(u_lambda, settings.wavelengths),
+            let sampled;
+            let wavelengths = match &monochromatic {
+                Some(wavelengths) => wavelengths,
+                None => {
+                    sampled = SampledWavelengths::sample_visible(u_lambda, settings.wavelengths);
+                    &sampled
+                }
             };
             let ray = scene.camera.ray(x as f32 + jx, y as f32 + jy);
             let frame_x = if B::POLARIZED { scene.camera.stokes_x(ray.dir) } else { ray.dir };
-            let light: B = integrator.radiance(&ray, frame_x, &wavelengths, &mut rng, &mut stats);
-            if !add_sample(pixel_sums, &light, &wavelengths, layout) {
+            let light: B = integrator.radiance(&ray, frame_x, wavelengths, &mut rng, &mut stats);
+            if !add_sample(pixel_sums, &light, wavelengths, layout) {
                 failed.get_or_insert((x, y));
             }
         }

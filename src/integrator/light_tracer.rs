@@ -76,7 +76,7 @@ use glam::Vec3;
 
 use super::emission::{Cone, Emission};
 use super::guide::EmissionGuide;
-use super::{element, fresnel, refraction, rotation, Beam, Fault, TraceStats};
+use super::{element, fresnel, refraction, rotation, Beam, Fault, MonochromaticIndices, TraceStats};
 use crate::film::{FilmLayout, Splats};
 use crate::geometry::{spawn_origin, Hit, Ray};
 use crate::material::{Dielectric, Diffuse, Material};
@@ -136,10 +136,12 @@ pub struct LightTracer<'a> {
     max_depth: u32,
     prune_below: f32,
     wavelengths: usize,
-    monochromatic_nm: Option<f32>,
+    /// The one wavelength of a monochromatic render, made once (with its place on the grid).
+    monochromatic: Option<SampledWavelengths>,
     fault: Option<Fault>,
     has_sheets: bool,
     guide: EmissionGuide,
+    indices: MonochromaticIndices,
 }
 
 impl<'a> LightTracer<'a> {
@@ -152,10 +154,11 @@ impl<'a> LightTracer<'a> {
             max_depth: settings.max_depth,
             prune_below: settings.prune_below,
             wavelengths: settings.wavelengths,
-            monochromatic_nm,
+            monochromatic: monochromatic_nm.map(SampledWavelengths::monochromatic),
             fault: None,
             has_sheets: scene.materials.iter().any(Material::is_filter),
             guide: EmissionGuide::uniform(),
+            indices: MonochromaticIndices::new(&scene.materials, monochromatic_nm),
         }
     }
 
@@ -240,16 +243,20 @@ impl<'a> LightTracer<'a> {
         scratch: &mut Scratch<B>,
         stats: &mut TraceStats,
     ) {
-        let wavelengths = match self.monochromatic_nm {
-            Some(nm) => SampledWavelengths::monochromatic(nm),
-            None => SampledWavelengths::sample_visible(rng.uniform(), self.wavelengths),
+        let sampled;
+        let wavelengths = match &self.monochromatic {
+            Some(wavelengths) => wavelengths,
+            None => {
+                sampled = SampledWavelengths::sample_visible(rng.uniform(), self.wavelengths);
+                &sampled
+            }
         };
         let Some(emitted) =
             self.emission.sample(self.scene, u_dir, &mut || rng.uniform(), &mut scratch.cones)
         else {
             return;
         };
-        let flux = self.scene.lights[emitted.light].emitted().sample(&wavelengths)
+        let flux = self.scene.lights[emitted.light].emitted().sample(wavelengths)
             * wavelengths.active_mask()
             * (emitted.weight * weight);
         let reference = flux.max_value();
@@ -272,7 +279,7 @@ impl<'a> LightTracer<'a> {
                 Material::Black => {}
                 Material::Diffuse(diffuse) => {
                     if photon.through_specular {
-                        self.connect(diffuse, &hit, &photon, &wavelengths, layout, splats, stats);
+                        self.connect(diffuse, &hit, &photon, wavelengths, layout, splats, stats);
                     }
                 }
                 _ if photon.depth >= self.max_depth => {}
@@ -280,14 +287,14 @@ impl<'a> LightTracer<'a> {
                     let dir = photon.ray.dir;
                     let cos_theta_i = dir.dot(hit.shading_normal);
                     let mueller = if B::POLARIZED {
-                        let mueller = mirror.mueller(cos_theta_i, &wavelengths);
+                        let mueller = mirror.mueller(cos_theta_i, wavelengths);
                         if self.fault == Some(Fault::FlippedPhase) {
                             mueller.phase_flipped()
                         } else {
                             mueller
                         }
                     } else {
-                        Mueller::attenuation(mirror.reflectance(cos_theta_i, &wavelengths))
+                        Mueller::attenuation(mirror.reflectance(cos_theta_i, wavelengths))
                     };
                     let s = if B::POLARIZED {
                         s_axis(hit.shading_normal, dir, photon.frame_x)
@@ -300,13 +307,14 @@ impl<'a> LightTracer<'a> {
                     self.push(scratch, &hit, out, s, flux, &photon, true, reference, rng);
                 }
                 Material::Dielectric(dielectric) => {
-                    self.dielectric(dielectric, &hit, &photon, &wavelengths, reference, scratch, rng);
+                    let glass = (surface.material, dielectric);
+                    self.dielectric(glass, &hit, &photon, wavelengths, reference, scratch, rng);
                 }
                 Material::Polarizer(polarizer) => {
                     let dir = photon.ray.dir;
                     let axis = polarizer.transmission_axis(hit.normal, dir);
                     let mueller = Mueller::splat(JonesDiagonal::linear_polarizer(1.0))
-                        .scaled(polarizer.transmittance.sample(&wavelengths));
+                        .scaled(polarizer.transmittance.sample(wavelengths));
                     self.sheet(scratch, &hit, &photon, axis, &mueller, reference, rng);
                 }
                 Material::Retarder(retarder) => {
@@ -379,11 +387,12 @@ impl<'a> LightTracer<'a> {
 
     /// A dielectric: Beer–Lambert over the segment just crossed inside, then both Fresnel
     /// branches at the path's first interaction, one chosen by flux after; a dispersive
-    /// refraction continues every live lane on its own direction.
+    /// refraction continues every live lane on its own direction. `glass` is the material (its
+    /// number and itself).
     #[allow(clippy::too_many_arguments)] // the path's state, passed flat
     fn dielectric<B: Beam>(
         &self,
-        dielectric: &Dielectric,
+        (material, dielectric): (u32, &Dielectric),
         hit: &Hit,
         photon: &Photon<B>,
         wavelengths: &SampledWavelengths,
@@ -405,8 +414,10 @@ impl<'a> LightTracer<'a> {
         if live_count == 0 {
             return;
         }
-        let fresnel_at =
-            |lane: usize| fresnel(self.fault, cos_theta_i, dielectric.ior.eval(wavelengths.lambda_nm(lane)));
+        let fresnel_at = |lane: usize| {
+            let ior = self.indices.ior(material, dielectric, wavelengths.lambda_nm(lane));
+            fresnel(self.fault, cos_theta_i, ior)
+        };
         // Both branches leave in the s frame of this incidence, where the Fresnel matrices are
         // diagonal.
         let s = if B::POLARIZED { s_axis(normal, dir, photon.frame_x) } else { photon.frame_x };

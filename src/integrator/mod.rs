@@ -15,6 +15,7 @@ pub use beam::Beam;
 pub use light_tracer::LightTracer;
 pub use whitted::Whitted;
 
+use crate::material::{Dielectric, Material};
 use crate::optics::{fresnel_dielectric, refract, DielectricFresnel};
 use crate::polarization::mueller::JonesDiagonal;
 use crate::polarization::{Mueller, Rotation};
@@ -52,6 +53,34 @@ pub enum Fault {
     /// The light tracer drops the cosine at the diffuse receiver (the cosine between its normal
     /// and the direction to the camera) when it connects a light path to the camera.
     NoReceiverCosine,
+}
+
+/// Each dielectric's index of refraction at the one wavelength of a monochromatic render, by
+/// material index: evaluated once, where a glass hit would evaluate its dispersion law again
+/// (a Sellmeier law costs three divisions and a square root). Empty for spectral renders.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct MonochromaticIndices(Vec<f32>);
+
+impl MonochromaticIndices {
+    /// The indices of `materials` at `monochromatic_nm` (nm), if the render is monochromatic.
+    pub(crate) fn new(materials: &[Material], monochromatic_nm: Option<f32>) -> Self {
+        let Some(nm) = monochromatic_nm else { return Self::default() };
+        let index = |material: &Material| match material {
+            Material::Dielectric(dielectric) => dielectric.ior.eval(nm),
+            _ => 0.0,
+        };
+        Self(materials.iter().map(index).collect())
+    }
+
+    /// The index of `dielectric`, material number `material`, at the wavelength `lambda_nm` of a
+    /// live lane: the stored value in a monochromatic render (whose one wavelength that is).
+    #[inline]
+    pub(crate) fn ior(&self, material: u32, dielectric: &Dielectric, lambda_nm: f32) -> f32 {
+        match self.0.get(material as usize) {
+            Some(&n) => n,
+            None => dielectric.ior.eval(lambda_nm),
+        }
+    }
 }
 
 /// Fresnel at one lane, exact unless `fault` replaces it (Schlick, a scaled index).
@@ -124,4 +153,27 @@ pub(crate) fn refraction<B: Beam>(dir: Vec3, normal: Vec3, f: &DielectricFresnel
         JonesDiagonal { a: 1.0 - f.reflectance, b: 0.0, w_re: 0.0, w_im: 0.0 }
     };
     Some((refracted.normalize(), Mueller::splat(element)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::optics::catalogue::glass_ior;
+
+    /// Schott's N-BK7 at the helium d line (587.56 nm) and the hydrogen F line (486.13 nm):
+    /// n_d = 1.51680, n_F = 1.52238 (Schott data sheet).
+    #[test]
+    fn monochromatic_indices_hold_each_glass_at_the_render_wavelength() {
+        let bk7 = Dielectric { ior: glass_ior("N-BK7").expect("N-BK7 is catalogued"), absorption: None };
+        let materials = [Material::Black, Material::Dielectric(bk7.clone())];
+        let at_d = MonochromaticIndices::new(&materials, Some(587.56));
+        // The stored index answers whatever lane wavelength is asked: a monochromatic render
+        // has only its own.
+        assert!((at_d.ior(1, &bk7, 587.56) - 1.51680).abs() < 2e-5);
+        assert_eq!(at_d.ior(1, &bk7, 486.13), at_d.ior(1, &bk7, 587.56));
+        // A spectral render evaluates the law at each lane.
+        let spectral = MonochromaticIndices::new(&materials, None);
+        assert!((spectral.ior(1, &bk7, 486.13) - 1.52238).abs() < 2e-5);
+        assert!((spectral.ior(1, &bk7, 587.56) - 1.51680).abs() < 2e-5);
+    }
 }

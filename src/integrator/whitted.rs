@@ -38,7 +38,7 @@
 
 use glam::Vec3;
 
-use super::{refraction, Beam, Fault, TraceStats};
+use super::{refraction, Beam, Fault, MonochromaticIndices, TraceStats};
 use crate::geometry::{spawn_origin, Hit, Ray};
 use crate::light::Light;
 use crate::material::{Dielectric, Diffuse, Material, Polarizer, Retarder};
@@ -65,6 +65,7 @@ pub struct Whitted<'a> {
     fault: Option<Fault>,
     /// True when some material is a polariser or retarder (shadow rays must look through them).
     has_sheets: bool,
+    indices: MonochromaticIndices,
 }
 
 /// A sheet light passes straight through, met along a ray.
@@ -84,7 +85,14 @@ impl<'a> Whitted<'a> {
             area_light_samples: area_light_samples.max(1),
             fault: None,
             has_sheets: scene.materials.iter().any(Material::is_filter),
+            indices: MonochromaticIndices::default(),
         }
+    }
+
+    /// The same integrator for a render at the one wavelength `nm` (nm), if monochromatic: its
+    /// glass takes the index at that wavelength, evaluated once.
+    pub fn with_monochromatic(self, nm: Option<f32>) -> Self {
+        Self { indices: MonochromaticIndices::new(&self.scene.materials, nm), ..self }
     }
 
     /// The same integrator with a deliberate physics error (validation only).
@@ -181,7 +189,7 @@ impl<'a> Whitted<'a> {
             }
             Material::Dielectric(dielectric) => {
                 radiance += self.dielectric::<B>(
-                    dielectric,
+                    (surface.material, dielectric),
                     &hit,
                     ray.dir,
                     frame_x,
@@ -270,7 +278,7 @@ impl<'a> Whitted<'a> {
     #[allow(clippy::too_many_arguments)] // the recursion state is passed flat to stay allocation-free
     fn dielectric<B: Beam>(
         &self,
-        dielectric: &Dielectric,
+        (material, dielectric): (u32, &Dielectric),
         hit: &Hit,
         dir: Vec3,
         frame_x: Vec3,
@@ -303,8 +311,9 @@ impl<'a> Whitted<'a> {
         // diagonal; the sum is turned into the caller's frame at the end.
         let s = if B::POLARIZED { s_axis(normal, -dir, frame_x) } else { frame_x };
         let reflected_dir = reflect(dir, normal).normalize();
-        let fresnel_at =
-            |lane: usize| self.fresnel(cos_theta_i, dielectric.ior.eval(wavelengths.lambda_nm(lane)));
+        let fresnel_at = |lane: usize| {
+            self.fresnel(cos_theta_i, self.indices.ior(material, dielectric, wavelengths.lambda_nm(lane)))
+        };
         let reflection_of =
             |f: &DielectricFresnel| self.element(JonesDiagonal::dielectric_reflection(cos_theta_i, f));
 
