@@ -141,6 +141,7 @@ pub struct LightTracer<'a> {
     fault: Option<Fault>,
     has_sheets: bool,
     guide: EmissionGuide,
+    /// Each glass's index at a monochromatic render's wavelength.
     indices: MonochromaticIndices,
 }
 

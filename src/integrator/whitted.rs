@@ -65,6 +65,7 @@ pub struct Whitted<'a> {
     fault: Option<Fault>,
     /// True when some material is a polariser or retarder (shadow rays must look through them).
     has_sheets: bool,
+    /// Each glass's index at a monochromatic render's wavelength.
     indices: MonochromaticIndices,
 }
 
