@@ -272,15 +272,22 @@ impl<'a> LightTracer<'a> {
             depth: 0,
             through_specular: false,
         });
-        while let Some(photon) = scratch.stack.pop() {
+        // The photon on top is traced where it lies and copied off the stack only after: its
+        // push wrote it field by field a moment ago, and a copy right away read those narrow
+        // stores back with wide loads, which the processor cannot forward (a stall of about a
+        // dozen cycles per ray). For the same reason the hit is read where `intersect` left it.
+        while let Some(last) = scratch.stack.len().checked_sub(1) {
             stats.rays += 1;
-            let Some(hit) = self.scene.geometry.intersect(&photon.ray, f32::INFINITY) else { continue };
+            let found = self.scene.geometry.intersect(&scratch.stack[last].ray, f32::INFINITY);
+            let photon = scratch.stack[last];
+            scratch.stack.truncate(last);
+            let Some(hit) = found.as_ref() else { continue };
             let surface = self.scene.surfaces[hit.prim as usize];
             match &self.scene.materials[surface.material as usize] {
                 Material::Black => {}
                 Material::Diffuse(diffuse) => {
                     if photon.through_specular {
-                        self.connect(diffuse, &hit, &photon, wavelengths, layout, splats, stats);
+                        self.connect(diffuse, hit, &photon, wavelengths, layout, splats, stats);
                     }
                 }
                 _ if photon.depth >= self.max_depth => {}
@@ -305,18 +312,18 @@ impl<'a> LightTracer<'a> {
                     let flux =
                         photon.flux.rotated(rotation(self.fault, dir, photon.frame_x, s)).through(&mueller);
                     let out = reflect(dir, hit.shading_normal).normalize();
-                    self.push(scratch, &hit, out, s, flux, &photon, true, reference, rng);
+                    self.push(scratch, hit, out, s, flux, &photon, true, reference, rng);
                 }
                 Material::Dielectric(dielectric) => {
                     let glass = (surface.material, dielectric);
-                    self.dielectric(glass, &hit, &photon, wavelengths, reference, scratch, rng);
+                    self.dielectric(glass, hit, &photon, wavelengths, reference, scratch, rng);
                 }
                 Material::Polarizer(polarizer) => {
                     let dir = photon.ray.dir;
                     let axis = polarizer.transmission_axis(hit.normal, dir);
                     let mueller = Mueller::splat(JonesDiagonal::linear_polarizer(1.0))
                         .scaled(polarizer.transmittance.sample(wavelengths));
-                    self.sheet(scratch, &hit, &photon, axis, &mueller, reference, rng);
+                    self.sheet(scratch, hit, &photon, axis, &mueller, reference, rng);
                 }
                 Material::Retarder(retarder) => {
                     let dir = photon.ray.dir;
@@ -325,7 +332,7 @@ impl<'a> LightTracer<'a> {
                         self.fault,
                         JonesDiagonal::linear_retarder(retarder.retardance_rad),
                     ));
-                    self.sheet(scratch, &hit, &photon, axis, &mueller, reference, rng);
+                    self.sheet(scratch, hit, &photon, axis, &mueller, reference, rng);
                 }
             }
         }

@@ -150,7 +150,11 @@ impl<'a> Whitted<'a> {
         stats: &mut TraceStats,
     ) -> B {
         stats.rays += 1;
-        let Some(hit) = self.scene.geometry.intersect(ray, f32::INFINITY) else {
+        // The hit is read where `intersect` left it, field by field: moved into a local, it was
+        // copied by wide loads over the narrow stores that wrote it, which the processor cannot
+        // forward (a stall of about a dozen cycles per ray).
+        let found = self.scene.geometry.intersect(ray, f32::INFINITY);
+        let Some(hit) = found.as_ref() else {
             return B::unpolarized(self.scene.background.sample(wavelengths));
         };
         let surface = self.scene.surfaces[hit.prim as usize];
@@ -166,7 +170,7 @@ impl<'a> Whitted<'a> {
             Material::Black => {}
             Material::Diffuse(diffuse) => {
                 radiance +=
-                    B::unpolarized(self.direct_light::<B>(diffuse, &hit, ray.dir, wavelengths, rng, stats))
+                    B::unpolarized(self.direct_light::<B>(diffuse, hit, ray.dir, wavelengths, rng, stats))
             }
             Material::Mirror(_) | Material::Polarizer(_) | Material::Retarder(_)
                 if depth >= self.max_depth => {}
@@ -185,13 +189,13 @@ impl<'a> Whitted<'a> {
                 let dir = reflect(ray.dir, hit.shading_normal).normalize();
                 let s = if B::POLARIZED { s_axis(hit.shading_normal, -ray.dir, frame_x) } else { frame_x };
                 let reflected =
-                    self.branch::<B>(&hit, dir, s, mueller.a, throughput, wavelengths, depth, rng, stats);
+                    self.branch::<B>(hit, dir, s, mueller.a, throughput, wavelengths, depth, rng, stats);
                 radiance += reflected.through(&mueller).rotated(self.rotation(-ray.dir, s, frame_x));
             }
             Material::Dielectric(dielectric) => {
                 radiance += self.dielectric::<B>(
                     (surface.material, dielectric),
-                    &hit,
+                    hit,
                     ray.dir,
                     frame_x,
                     throughput,
@@ -204,7 +208,7 @@ impl<'a> Whitted<'a> {
             Material::Polarizer(polarizer) => {
                 radiance += self.sheet::<B>(
                     Sheet::Polarizer(polarizer),
-                    &hit,
+                    hit,
                     ray.dir,
                     frame_x,
                     throughput,
@@ -217,7 +221,7 @@ impl<'a> Whitted<'a> {
             Material::Retarder(retarder) => {
                 radiance += self.sheet::<B>(
                     Sheet::Retarder(retarder),
-                    &hit,
+                    hit,
                     ray.dir,
                     frame_x,
                     throughput,

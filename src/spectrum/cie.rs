@@ -59,10 +59,17 @@ pub fn cmf(lambda_nm: f32) -> Vec3 {
 /// The estimate is `Σ_active L(λ_i)·cmf(λ_i) / p(λ_i) / active / ∫ȳ`: lane i samples the i-th
 /// 1/active of the sampling CDF, with density active·p there, so its term estimates that part of
 /// `∫ L·cmf dλ` without bias and the sum estimates the whole.
+#[inline]
 pub fn to_xyz(radiance: &SampledSpectrum, wavelengths: &SampledWavelengths) -> Vec3 {
     if wavelengths.is_monochromatic() {
         return Vec3::splat(radiance[0]);
     }
+    spectral_to_xyz(radiance, wavelengths)
+}
+
+/// [`to_xyz`] for sampled wavelengths: out of line, so that a monochromatic caller inlines only
+/// the test above.
+fn spectral_to_xyz(radiance: &SampledSpectrum, wavelengths: &SampledWavelengths) -> Vec3 {
     let active = wavelengths.active();
     let observer = observer();
     let grid = wavelengths.grid();
