@@ -106,14 +106,20 @@ struct Photon<B> {
 }
 
 /// Where the branches of a path at a dielectric leave from: the hit, the path arriving, its
-/// starting flux (for roulette), the s axis both branches are framed in, and the reflected
-/// direction.
+/// starting flux (for roulette), and the s axis both branches are framed in.
 struct Branches<'a, B> {
     hit: &'a Hit,
     photon: &'a Photon<B>,
     reference: f32,
     frame_x: Vec3,
-    out: Vec3,
+}
+
+impl<B> Branches<'_, B> {
+    /// The reflected direction, made only for a reflected branch that is traced (after the
+    /// first interface most paths refract).
+    fn reflected(&self) -> Vec3 {
+        reflect(self.photon.ray.dir, self.hit.shading_normal).normalize()
+    }
 }
 
 /// Scratch space of one worker, reused from path to path.
@@ -430,7 +436,7 @@ impl<'a> LightTracer<'a> {
         // diagonal.
         let s = if B::POLARIZED { s_axis(normal, dir, photon.frame_x) } else { photon.frame_x };
         let incident = flux.rotated(rotation(self.fault, dir, photon.frame_x, s));
-        let branches = Branches { hit, photon, reference, frame_x: s, out: reflect(dir, normal).normalize() };
+        let branches = Branches { hit, photon, reference, frame_x: s };
 
         if !dielectric.ior.is_dispersive() || live_count == 1 {
             // One index for every live lane: one Fresnel evaluation and one refracted direction
@@ -509,7 +515,17 @@ impl<'a> LightTracer<'a> {
             return;
         }
         if at.photon.depth == 0 {
-            self.push(scratch, at.hit, at.out, at.frame_x, reflected, at.photon, true, at.reference, rng);
+            self.push(
+                scratch,
+                at.hit,
+                at.reflected(),
+                at.frame_x,
+                reflected,
+                at.photon,
+                true,
+                at.reference,
+                rng,
+            );
             for (dir_t, beam) in refracted.iter().flatten() {
                 self.push(scratch, at.hit, *dir_t, at.frame_x, *beam, at.photon, true, at.reference, rng);
             }
@@ -518,7 +534,7 @@ impl<'a> LightTracer<'a> {
         let p_reflect = reflected_flux / all;
         if rng.uniform() < p_reflect {
             let flux = reflected.scaled(SampledSpectrum::splat(1.0 / p_reflect));
-            self.push(scratch, at.hit, at.out, at.frame_x, flux, at.photon, true, at.reference, rng);
+            self.push(scratch, at.hit, at.reflected(), at.frame_x, flux, at.photon, true, at.reference, rng);
         } else {
             let scale = SampledSpectrum::splat(1.0 / (1.0 - p_reflect));
             for (dir_t, beam) in refracted.iter().flatten() {
