@@ -265,12 +265,16 @@ impl PartialEq for WindowSums {
             return self.light == other.light;
         }
         // Value `index` of light sums `sums` at `pixel`, zero where they leave it out.
-        let value = |sums: &WindowSums, pixel: usize, index: usize| {
-            sums.light_slot(index)
-                .map_or(FixedSum::ZERO, |slot| sums.light[pixel * sums.light_stride() + slot])
+        let slots =
+            |sums: &WindowSums| (0..sums.stride()).map(|index| sums.light_slot(index)).collect::<Vec<_>>();
+        let (own_slots, other_slots) = (slots(self), slots(other));
+        let value = |sums: &WindowSums, slots: &[Option<usize>], pixel: usize, index: usize| {
+            slots[index].map_or(FixedSum::ZERO, |slot| sums.light[pixel * sums.light_stride() + slot])
         };
         (0..self.window.pixels()).all(|pixel| {
-            (0..self.stride()).all(|index| value(self, pixel, index) == value(other, pixel, index))
+            (0..self.stride()).all(|index| {
+                value(self, &own_slots, pixel, index) == value(other, &other_slots, pixel, index)
+            })
         })
     }
 }
@@ -364,21 +368,10 @@ impl WindowSums {
         }
     }
     /// The light-tracer slot of value `index` (of [`Self::layout`]), or `None` for a value the
-    /// light sums leave out (S1–S3 when they hold S0 alone: zero).
+    /// light sums leave out (S1–S3 when they hold S0 alone: zero): the inverse of
+    /// [`Self::light_value_index`], which alone knows the numbering.
     pub fn light_slot(&self, index: usize) -> Option<usize> {
-        if self.light_layout == self.layout {
-            return Some(index);
-        }
-        let colour = self.layout.colour_values();
-        let bands_start = colour * self.layout.components();
-        let bands = self.layout.bands.map_or(0, |bands| bands.count);
-        if index < colour {
-            Some(index)
-        } else if (bands_start..bands_start + bands).contains(&index) {
-            Some(colour + index - bands_start)
-        } else {
-            None
-        }
+        (0..self.light_stride()).find(|&slot| self.light_value_index(slot) == index)
     }
     /// True when the sums hold light-tracer splats.
     pub fn has_light(&self) -> bool {

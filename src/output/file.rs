@@ -39,10 +39,7 @@ static NEXT_TEMPORARY: AtomicU64 = AtomicU64::new(0);
 /// own, and the render's thread could otherwise stage the next output while the process exits
 /// and leave its file behind (seen once in CI, in `interrupt_during_write_leaves_tmp`).
 pub fn abandon_and_exit(code: i32) -> ! {
-    let paths = match TEMPORARIES.lock() {
-        Ok(paths) => paths,
-        Err(poisoned) => poisoned.into_inner(),
-    };
+    let paths = registry();
     remove_all(&paths);
     std::process::exit(code)
 }
@@ -93,11 +90,14 @@ impl Drop for Temporary {
     }
 }
 
+/// The registry of temporary files, locked (a panic elsewhere poisons the lock; the list it
+/// guards is still whole).
+fn registry() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
+    TEMPORARIES.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
 fn registry_update<R>(change: impl FnOnce(&mut Vec<PathBuf>) -> R) -> R {
-    match TEMPORARIES.lock() {
-        Ok(mut paths) => change(&mut paths),
-        Err(poisoned) => change(&mut poisoned.into_inner()),
-    }
+    change(&mut registry())
 }
 
 /// Where an output goes, once checked.
