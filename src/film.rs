@@ -114,6 +114,20 @@ pub fn add_sample<B: Beam>(
     wavelengths: &SampledWavelengths,
     layout: &FilmLayout,
 ) -> bool {
+    add_weighted_sample(sums, beam, wavelengths, layout, 1.0)
+}
+
+/// [`add_sample`] with every value times `weight` (1/m for each of a pass's m samples of an
+/// edge pixel, [`crate::edges`]). A weight of 1 adds the same bits as [`add_sample`].
+#[inline]
+#[must_use]
+pub fn add_weighted_sample<B: Beam>(
+    sums: &mut [FixedSum],
+    beam: &B,
+    wavelengths: &SampledWavelengths,
+    layout: &FilmLayout,
+    weight: f32,
+) -> bool {
     let mut ok = true;
     for (k, component) in beam.components().iter().enumerate() {
         // Most samples see unpolarised light (diffuse surfaces, the background): S1–S3 are
@@ -125,7 +139,7 @@ pub fn add_sample<B: Beam>(
         let axes = layout.colour_axes();
         let colour = axes.len() * k..axes.len() * (k + 1);
         for (sum, &axis) in sums[colour].iter_mut().zip(axes) {
-            ok &= sum.add_f32(xyz[axis]);
+            ok &= sum.add_f32(weight * xyz[axis]);
         }
     }
     let Some(bands) = &layout.bands else { return ok };
@@ -133,7 +147,7 @@ pub fn add_sample<B: Beam>(
     // colour-matching function: Σ_active L(λ_i)/p(λ_i) / active over the lanes in the band.
     let offset = layout.colour_values() * layout.components();
     let active = wavelengths.active();
-    let scale = 1.0 / (active as f64 * f64::from(bands.width_nm()));
+    let scale = f64::from(weight) / (active as f64 * f64::from(bands.width_nm()));
     for lane in 0..active {
         let lambda_nm = wavelengths.lambda_nm(lane);
         let Some(band) = bands.band_of(lambda_nm) else { continue };

@@ -7,6 +7,11 @@
 //! and any split of the samples and pixels into parts adds up to the same bits
 //! ([`crate::part`]).
 //!
+//! After the first pass the pixels an edge crosses get more camera samples per pass
+//! ([`crate::edges`], the scene's `edge_samples`): their first pass is rendered again with them,
+//! and each of their passes adds the mean of its samples, so a pass still counts one sample for
+//! the film and the merges.
+//!
 //! A render takes the sample indices of its [`Job`] (all of `0..spp` unless told) over its pixel
 //! window (the whole image unless told) in **sample blocks**: each block adds some samples to
 //! every pixel of the window. Between blocks the render may stop (Ctrl-C, [`crate::interrupt`]):
@@ -28,7 +33,8 @@ use std::time::{Duration, Instant};
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 
-use crate::film::{add_sample, Film, FilmLayout, NonFinitePixel, SpectralBands, Splats, WindowSums};
+use crate::edges::{self, EdgeMap};
+use crate::film::{add_weighted_sample, Film, FilmLayout, NonFinitePixel, SpectralBands, Splats, WindowSums};
 use crate::fixed::FixedSum;
 use crate::integrator::light_tracer::Scratch;
 use crate::integrator::{guide, Beam, Fault, LightTracer, TraceStats, Whitted};
@@ -137,6 +143,9 @@ pub struct RenderStats {
     /// ([`crate::integrator::guide::learn`]; used when at least
     /// [`crate::integrator::guide::MIN_PREDICTED_GAIN`]), if it learned one.
     pub light_guide_gain: Option<f64>,
+    /// Pixels of the window that took `edge_samples` camera samples per pass after the first
+    /// ([`crate::edges`]).
+    pub edge_pixels: usize,
 }
 
 /// Why a render could not run.
@@ -280,6 +289,13 @@ pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
         light.trace(&pool, job, None, learning, (width, height), &ProgressBar::hidden())?;
         light_elapsed = start.elapsed();
     }
+    // Edge refinement needs the first pass: from the sums right after it when this render
+    // holds it, else rendered for the map alone now.
+    let refine = job.settings.edge_samples > 1 && !samples.ranges().is_empty();
+    let mut edges = EdgeMap::uniform(window);
+    if refine && samples.ranges().first().is_none_or(|r| r.start != 0) {
+        edges = pool.install(|| find_edges(scene, &integrator, job, None));
+    }
     let mut sums = match light_layout {
         Some(light_layout) => WindowSums::with_light_layout(window, layout, light_layout),
         None => WindowSums::new(window, layout, false),
@@ -309,12 +325,21 @@ pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
                     let block_start = Instant::now();
                     let (block_rays, failed) = pool.install(|| {
                         if layout.stokes {
-                            camera_block::<Stokes>(scene, &integrator, job, &mut sums, first..end, &progress)
+                            camera_block::<Stokes>(
+                                scene,
+                                &integrator,
+                                job,
+                                &edges,
+                                &mut sums,
+                                first..end,
+                                &progress,
+                            )
                         } else {
                             camera_block::<SampledSpectrum>(
                                 scene,
                                 &integrator,
                                 job,
+                                &edges,
                                 &mut sums,
                                 first..end,
                                 &progress,
@@ -324,6 +349,17 @@ pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
                     rays += block_rays;
                     if let Some((x, y)) = failed {
                         return Err(not_summable(x, y));
+                    }
+                    if refine && first == 0 {
+                        // The first pass is in the sums: the map from it, and the first pass of
+                        // the edge pixels again, with their samples per pass.
+                        edges = pool.install(|| find_edges(scene, &integrator, job, Some(&sums)));
+                        let (redo_rays, failed) =
+                            pool.install(|| redo_first_pass(scene, &integrator, job, &edges, &mut sums));
+                        rays += redo_rays;
+                        if let Some((x, y)) = failed {
+                            return Err(not_summable(x, y));
+                        }
                     }
                     if light_paths_per_pass > 0 {
                         let light_start = Instant::now();
@@ -363,6 +399,7 @@ pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
         light_rays,
         light_elapsed,
         light_guide_gain: light.predicted_gain,
+        edge_pixels: edges.edge_pixels(),
     };
     Ok(Rendered { sums, samples: done, interrupted, light_paths_per_pass, stats })
 }
@@ -411,6 +448,7 @@ fn camera_block<B: Beam>(
     scene: &Scene,
     integrator: &Whitted,
     job: &Job,
+    edges: &EdgeMap,
     sums: &mut WindowSums,
     block: std::ops::Range<u32>,
     progress: &ProgressBar,
@@ -425,9 +463,98 @@ fn camera_block<B: Beam>(
         .enumerate()
         .map(|(row, row_sums)| {
             let y = window.y0 + row as u32;
-            let result =
-                render_row::<B>(scene, integrator, job, &layout, y, window.x0, row_sums, block.clone());
+            let result = render_row::<B>(
+                scene,
+                integrator,
+                job,
+                &layout,
+                edges,
+                y,
+                window.x0,
+                row_sums,
+                block.clone(),
+            );
             progress.inc(u64::from(window.width()) * u64::from(block.end - block.start));
+            result
+        })
+        .reduce(|| (0, None), |a, b| (a.0 + b.0, a.1.or(b.1)))
+}
+
+/// The edge map of the job's window ([`crate::edges`]) from the first pass's camera luminance
+/// of the window and the pixels around it: read from `first_pass` (sums holding exactly the
+/// first pass of the window) where given, rendered for the map alone elsewhere.
+fn find_edges(scene: &Scene, integrator: &Whitted, job: &Job, first_pass: Option<&WindowSums>) -> EdgeMap {
+    let (width, height) = (scene.camera.width(), scene.camera.height());
+    let window = job.window.unwrap_or(PixelWindow::full(width, height));
+    let area = edges::surrounding(window, width, height);
+    let layout = job.layout();
+    let stride = layout.values_per_pixel();
+    let luminance = layout.luminance_index();
+    let none = EdgeMap::uniform(area);
+    let rows: Vec<Vec<f64>> = (area.y0..area.y1)
+        .into_par_iter()
+        .map(|y| {
+            // The first pass of the pixels of this row that the sums do not hold.
+            let mut rendered = vec![FixedSum::ZERO; area.width() as usize * stride];
+            let held = |x: u32| first_pass.is_some() && window.contains(x, y);
+            for x in (area.x0..area.x1).filter(|&x| !held(x)) {
+                let at = (x - area.x0) as usize * stride;
+                let pixel = &mut rendered[at..at + stride];
+                // A value that cannot be summed fails the render in its own pass; here it only
+                // leaves the pixel dark.
+                let _ = if layout.stokes {
+                    render_row::<Stokes>(scene, integrator, job, &layout, &none, y, x, pixel, 0..1)
+                } else {
+                    render_row::<SampledSpectrum>(scene, integrator, job, &layout, &none, y, x, pixel, 0..1)
+                };
+            }
+            (area.x0..area.x1)
+                .map(|x| match first_pass {
+                    Some(sums) if held(x) => {
+                        let index =
+                            (y - window.y0) as usize * window.width() as usize + (x - window.x0) as usize;
+                        sums.camera()[index * stride + luminance].mean(1.0)
+                    }
+                    _ => rendered[(x - area.x0) as usize * stride + luminance].mean(1.0),
+                })
+                .collect()
+        })
+        .collect();
+    EdgeMap::find(window, area, &rows.concat(), job.settings.edge_samples)
+}
+
+/// Renders the first pass of `edges`' edge pixels again with their samples per pass, in place
+/// of the one sample each had in `sums` (which hold the first pass only): the rays cast, and the
+/// first pixel whose samples could not be summed, if any.
+fn redo_first_pass(
+    scene: &Scene,
+    integrator: &Whitted,
+    job: &Job,
+    edges: &EdgeMap,
+    sums: &mut WindowSums,
+) -> (u64, Option<(u32, u32)>) {
+    let window = sums.window();
+    let layout = *sums.layout();
+    let stride = layout.values_per_pixel();
+    sums.camera_mut()
+        .par_chunks_mut(window.width() as usize * stride)
+        .enumerate()
+        .map(|(row, row_sums)| {
+            let y = window.y0 + row as u32;
+            let mut result = (0, None);
+            for (i, pixel) in row_sums.chunks_exact_mut(stride).enumerate() {
+                let x = window.x0 + i as u32;
+                if edges.samples(x, y) == 1 {
+                    continue;
+                }
+                pixel.fill(FixedSum::ZERO);
+                let (rays, failed) = if layout.stokes {
+                    render_row::<Stokes>(scene, integrator, job, &layout, edges, y, x, pixel, 0..1)
+                } else {
+                    render_row::<SampledSpectrum>(scene, integrator, job, &layout, edges, y, x, pixel, 0..1)
+                };
+                result = (result.0 + rays, result.1.or(failed));
+            }
             result
         })
         .reduce(|| (0, None), |a, b| (a.0 + b.0, a.1.or(b.1)))
@@ -612,8 +739,9 @@ fn trace_block<B: Beam>(
     (splats, stats, block_record)
 }
 
-/// Adds samples `block` of the pixels `x0..` of row `y` to their sums `row_sums` (the row of the
-/// window), carrying beams of type `B`: the rays cast, and the first pixel whose samples could
+/// Adds samples (passes) `block` of the pixels `x0..` of row `y` to their sums `row_sums` (the
+/// row of the window), carrying beams of type `B`, each pass of a pixel the mean of its
+/// [`EdgeMap::samples`] camera samples: the rays cast, and the first pixel whose samples could
 /// not be summed, if any.
 #[allow(clippy::too_many_arguments)] // the row's place and the render's state, passed flat
 fn render_row<B: Beam>(
@@ -621,6 +749,7 @@ fn render_row<B: Beam>(
     integrator: &Whitted,
     job: &Job,
     layout: &FilmLayout,
+    edges: &EdgeMap,
     y: u32,
     x0: u32,
     row_sums: &mut [FixedSum],
@@ -635,8 +764,8 @@ fn render_row<B: Beam>(
     for (i, pixel_sums) in row_sums.chunks_exact_mut(stride).enumerate() {
         let x = x0 + i as u32;
         let key = PixelKey::new(settings.seed, x, y);
-        for sample in block.clone() {
-            let mut rng = PixelRng::for_sample(key, sample);
+        let mut sample = |index: u32, sums: &mut [FixedSum], weight: f32| {
+            let mut rng = PixelRng::for_sample(key, index);
             // The position first: the sampler's first two dimensions are stratified jointly.
             let (jx, jy) = (rng.uniform(), rng.uniform());
             // Dimension 2 (`sampler::WAVELENGTH_DIMENSION`): evenly spaced over the pixel's samples.
@@ -652,7 +781,17 @@ fn render_row<B: Beam>(
             let ray = scene.camera.ray(x as f32 + jx, y as f32 + jy);
             let frame_x = if B::POLARIZED { scene.camera.stokes_x(ray.dir) } else { ray.dir };
             let light: B = integrator.radiance(&ray, frame_x, wavelengths, &mut rng, &mut stats);
-            if !add_sample(pixel_sums, &light, wavelengths, layout) {
+            add_weighted_sample(sums, &light, wavelengths, layout, weight)
+        };
+        for pass in block.clone() {
+            let per_pass = edges.samples(x, y);
+            let mut ok = true;
+            // The pass adds the mean of its samples: each weighs 1/m (1 exactly for one).
+            let weight = 1.0 / per_pass as f32;
+            for sub in 0..per_pass {
+                ok &= sample(edges::sample_index(pass, per_pass, sub), pixel_sums, weight);
+            }
+            if !ok {
                 failed.get_or_insert((x, y));
             }
         }

@@ -288,3 +288,15 @@ fn bad_light_path_counts_are_rejected() {
     assert_eq!(code, 2, "{stderr}");
     assert!(!produced);
 }
+
+/// Edge refinement's samples per pass must be 1..=64, in the file and on the command line.
+#[test]
+fn bad_edge_sample_counts_are_rejected() {
+    for bad in ["0", "65"] {
+        let text = GOOD.replace("spp = 1", &format!("spp = 1\nedge_samples = {bad}"));
+        assert_rejected(&text, &["render.edge_samples", bad]);
+        let (code, stderr, produced) = render_text(GOOD, &["--edge-samples", bad]);
+        assert_eq!(code, 2, "{stderr}");
+        assert!(!produced);
+    }
+}

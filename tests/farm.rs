@@ -58,7 +58,10 @@ fn check_partitions(scene: &Scene, job: &Job, partitions: &[Vec<(&str, Option<Pi
     let single_bits =
         image_bits(&single.sums, u64::from(job.settings.spp), single.header.light_paths_per_pass, display);
     // The plain render path gives the same image as the sums of a "part" of everything.
-    let (film, _) = prisma::render::render(scene, &Job { threads: 1, ..job.clone() }).unwrap();
+    let (film, stats) = prisma::render::render(scene, &Job { threads: 1, ..job.clone() }).unwrap();
+    // Parts that do not hold the first pass, or whose window has neighbours outside it, render
+    // the first pass for the edge map alone: the splits below must meet refined pixels.
+    assert!(stats.edge_pixels > 0, "no edge pixel: the splits do not exercise edge refinement");
     assert_eq!(
         film.xyz(),
         single.sums.film(u64::from(job.settings.spp), single.header.light_paths_per_pass, display).xyz()

@@ -78,6 +78,11 @@ pub struct RenderArgs {
     /// from the render's first light paths (the scene's `light_guide = false`).
     #[arg(long)]
     no_light_guide: bool,
+    /// Camera samples per pass of the pixels an edge crosses (shadow borders, silhouettes),
+    /// chosen after the first pass; 1 turns edge refinement off [default: the scene's
+    /// `edge_samples`, else 4].
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=i64::from(prisma::edges::MAX_EDGE_SAMPLES)))]
+    edge_samples: Option<u32>,
     /// Light paths per pass with caustics (a render makes one pass per sample per pixel)
     /// [default: the scene's `light_paths`, scaled with the pixel count when --width or --height
     /// change it; else one per pixel].
@@ -133,6 +138,7 @@ impl RenderArgs {
             caustics: false,
             no_caustics: false,
             no_light_guide: false,
+            edge_samples: None,
             light_paths: None,
             spectral_bands: None,
             spectral_range: None,
@@ -193,6 +199,9 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     }
     if args.no_light_guide {
         settings.light_guide = false;
+    }
+    if let Some(edge_samples) = args.edge_samples {
+        settings.edge_samples = edge_samples;
     }
     settings.light_paths = match (args.light_paths, settings.light_paths) {
         (Some(paths), _) => Some(paths),
@@ -375,6 +384,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         "light_rays": stats.light_rays,
         "light_tracer_seconds": stats.light_elapsed.as_secs_f64(),
         "light_guide_predicted_gain": stats.light_guide_gain,
+        "edge_pixels": stats.edge_pixels,
         "threads": stats.threads,
         "render_seconds": seconds,
         "samples": stats.samples,

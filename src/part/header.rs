@@ -9,7 +9,7 @@
 //! | `prisma.seed` | seed of the sample sequences |
 //! | `prisma.samples`, `prisma.spp` | sample indices held (`0..64,128..192`) and the render's total samples per pixel |
 //! | `prisma.crop` | the pixel window `X0,Y0,X1,Y1` (also the EXR data window) |
-//! | `prisma.settings` | the integrator settings as JSON: `max_depth`, `prune_below`, `wavelengths` (per sample), `area_light_samples`, `polarized`, `caustics`, `light_paths` (per pass, 0 without caustics), `light_guide` (light paths started by a learned guide, [`crate::integrator::guide`]), `spectral_bands`, `monochromatic_nm` |
+//! | `prisma.settings` | the integrator settings as JSON: `max_depth`, `prune_below`, `wavelengths` (per sample), `area_light_samples`, `edge_samples` (camera samples per pass at edges, [`crate::edges`]), `polarized`, `caustics`, `light_paths` (per pass, 0 without caustics), `light_guide` (light paths started by a learned guide, [`crate::integrator::guide`]), `spectral_bands`, `monochromatic_nm` |
 //! | `prisma.wallSeconds`, `prisma.threads`, `prisma.parts` | render time (summed over merged parts), threads (the most any part used), parts merged into this file |
 //! | `prisma.sumsFormat`, `prisma.sumsBlake3` | present when the file holds per-pixel sums: their format and a BLAKE3 digest of them (corruption check) |
 
@@ -72,6 +72,7 @@ pub fn settings_json(settings: &RenderSettings, light_paths_per_pass: u64, layou
         "prune_below": settings.prune_below.to_string().parse::<f64>().unwrap_or(f64::NAN),
         "wavelengths": settings.wavelengths,
         "area_light_samples": settings.area_light_samples,
+        "edge_samples": settings.edge_samples,
         "polarized": layout.stokes,
         "caustics": light_paths_per_pass > 0,
         "light_paths": light_paths_per_pass,

@@ -205,6 +205,12 @@ impl Builder<'_> {
             65_536,
             "render.area_light_samples",
         )?;
+        let edge_samples = in_range(
+            desc.edge_samples.unwrap_or(defaults.edge_samples),
+            1,
+            crate::edges::MAX_EDGE_SAMPLES,
+            "render.edge_samples",
+        )?;
         let prune_below = desc.prune_below.unwrap_or(defaults.prune_below);
         if !(0.0..1.0).contains(&prune_below) {
             return Err(self.error(
@@ -234,6 +240,7 @@ impl Builder<'_> {
             caustics: desc.caustics.unwrap_or(defaults.caustics),
             light_paths,
             light_guide: desc.light_guide.unwrap_or(defaults.light_guide),
+            edge_samples,
         };
         settings.check_ray_tree_bound().map_err(|message| self.error(span, "render.max_depth", message))?;
         Ok(settings)

@@ -44,6 +44,9 @@ pub struct RenderSettings {
     /// Start light paths where they are worth most, as the render's first light paths teach
     /// ([`crate::integrator::guide`]); false: uniformly over each light's emission.
     pub light_guide: bool,
+    /// Camera samples per pass of the pixels an edge crosses, after the first pass (1: every
+    /// pixel one sample per pass; [`crate::edges`]).
+    pub edge_samples: u32,
 }
 
 impl RenderSettings {
@@ -70,6 +73,7 @@ impl Default for RenderSettings {
             caustics: false,
             light_paths: None,
             light_guide: true,
+            edge_samples: 4,
         }
     }
 }

@@ -104,6 +104,14 @@ def rel_mse(image, reference, mask):
     return float(np.mean(((image - reference) ** 2 / (reference ** 2 + 1e-2))[mask]))
 
 
+def describe(effort):
+    """An effort as printed: Mitsuba's spp, or prisma's passes with their light paths."""
+    if isinstance(effort, tuple):
+        spp, paths = effort
+        return f"{spp} spp" + (f" x {paths} light paths" if paths else "")
+    return f"{effort} spp"
+
+
 def time_at(points, target):
     """log-log interpolation of (seconds, error) points at `target` error."""
     points = sorted(points)
@@ -145,14 +153,16 @@ def race(case, prisma, out, sampler):
     noise = float(np.mean(((first - second) ** 2 / 4.0 / (reference ** 2 + 1e-2))[mask]))
     results = {"case": case.name, "reference_noise_relmse": noise, "pixels": int(mask.sum()), "repeats": REPEATS}
     mode = ["--wavelength", str(case.wavelength)] if case.wavelength is not None else []
-    light_paths = ["--light-paths", str(LIGHT_PATHS)] if LIGHT_PATHS > 0 else []
     results["prisma_light_paths_per_pass"] = LIGHT_PATHS or "the scene's"
 
-    def render_prisma(spp):
-        """One prisma render: (render seconds, CPU seconds of the process, relMSE)."""
-        exr, stats = out / f"{case.name}_prisma_{spp}.exr", out / f"{case.name}_prisma_{spp}.json"
+    def render_prisma(effort):
+        """One prisma render of `effort` = (passes, light paths per pass or None for the scene's):
+        (render seconds, CPU seconds of the process, relMSE)."""
+        spp, paths = effort
+        exr, stats = out / f"{case.name}_prisma_{spp}_{paths}.exr", out / f"{case.name}_prisma_{spp}_{paths}.json"
         time.sleep(SETTLE_SECONDS)
         before = children_cpu()
+        light_paths = ["--light-paths", str(paths)] if paths else []
         # Unpolarised, as Mitsuba's plain variants and the references.
         subprocess.run([prisma, "render", str(case.scene), *mode, "--spp", str(spp), "--unpolarized", "--seed",
                         "17", "-o", str(exr), "--quiet", "--stats", str(stats), *PRISMA_FLAGS, *light_paths], check=True)
@@ -188,24 +198,29 @@ def race(case, prisma, out, sampler):
     # seeds repeat exactly. Every round times all of prisma's renders, then all of Mitsuba's, so
     # that both sides meet the same load of this shared machine within seconds of each other;
     # each render keeps its best time over the rounds.
-    sides = {"prisma": (render_prisma, [1, 2, 4, 8, 16, 32, 64, 128, 256]),
+    # prisma's efforts: one pass with a quarter and half of its light paths (a pass has at least
+    # one camera sample per pixel, so below one pass only the light paths shrink), then doubling
+    # passes.
+    per_pass = LIGHT_PATHS or None
+    below_one_pass = [(1, LIGHT_PATHS // 4), (1, LIGHT_PATHS // 2)] if LIGHT_PATHS >= 4 else []
+    sides = {"prisma": (render_prisma, below_one_pass + [(spp, per_pass) for spp in (1, 2, 4, 8, 16, 32, 64, 128, 256)]),
              "mitsuba": (render_mitsuba, [4, 8, 16, 32, 64, 128, 256, 512, 1024, 2048, 4096])}
     best = {name: {} for name in sides}
     for round_ in range(REPEATS):
-        for name, (render, spps) in sides.items():
-            for spp in list(spps):
-                if round_ > 0 and spp not in best[name]:
+        for name, (render, efforts) in sides.items():
+            for effort in efforts:
+                if round_ > 0 and effort not in best[name]:
                     break
-                seconds, cpu, error = render(spp)
-                previous = best[name].get(spp, (math.inf, math.inf, error))
-                best[name][spp] = (min(previous[0], seconds), min(previous[1], cpu), error)
+                seconds, cpu, error = render(effort)
+                previous = best[name].get(effort, (math.inf, math.inf, error))
+                best[name][effort] = (min(previous[0], seconds), min(previous[1], cpu), error)
                 if round_ == 0:
-                    print(f"{case.name}: {name} {spp} spp: relMSE {error:.3e}", flush=True)
+                    print(f"{case.name}: {name} {describe(effort)}: relMSE {error:.3e}", flush=True)
                     if error < 5e-5:
                         break
     for name in sides:
-        for spp, (seconds, cpu, error) in best[name].items():
-            print(f"{case.name}: {name} {spp} spp: {seconds:.3f} s ({cpu:.3f} CPU s), relMSE {error:.3e}")
+        for effort, (seconds, cpu, error) in best[name].items():
+            print(f"{case.name}: {name} {describe(effort)}: {seconds:.3f} s ({cpu:.3f} CPU s), relMSE {error:.3e}")
         results[name] = [(seconds, error) for seconds, _, error in best[name].values()]
         results[f"{name}_cpu"] = [(cpu, error) for _, cpu, error in best[name].values()]
     for target in (1e-3, 1e-4):
