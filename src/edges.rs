@@ -46,8 +46,8 @@ pub const MAX_EDGE_SAMPLES: u32 = 64;
 #[derive(Debug, Clone, PartialEq)]
 pub struct EdgeMap {
     window: PixelWindow,
-    /// Per pixel of the window, row-major: camera samples in each pass after the first.
-    per_pass: Vec<u32>,
+    /// Per pixel of the window, row-major: camera samples in each pass.
+    per_pass: Vec<u8>,
 }
 
 impl EdgeMap {
@@ -56,24 +56,36 @@ impl EdgeMap {
         Self { window, per_pass: vec![1; window.pixels()] }
     }
 
-    /// The map of `window` from the first-pass luminance `luminance` of `area` (row-major; the
-    /// window grown by a pixel on each side, within the image: [`surrounding`]): `edge_samples`
-    /// samples per pass where the neighbours' contrast exceeds [`EDGE_CONTRAST`], else 1.
-    pub fn find(window: PixelWindow, area: PixelWindow, luminance: &[f64], edge_samples: u32) -> Self {
-        debug_assert!(area.contains_window(&window) && luminance.len() == area.pixels());
-        let at = |x: u32, y: u32| {
-            luminance[(y - area.y0) as usize * area.width() as usize + (x - area.x0) as usize]
-        };
+    /// The map of `window` from the first-pass luminance `luminance(x, y)` of the pixels of
+    /// `area` (the window grown by a pixel on each side, within the image: [`surrounding`]):
+    /// `edge_samples` samples per pass where the neighbours' contrast exceeds
+    /// [`EDGE_CONTRAST`], else 1.
+    pub fn find(
+        window: PixelWindow,
+        area: PixelWindow,
+        luminance: impl Fn(u32, u32) -> f64,
+        edge_samples: u32,
+    ) -> Self {
+        debug_assert!(area.contains_window(&window));
+        let edge_samples = u8::try_from(edge_samples.min(MAX_EDGE_SAMPLES)).unwrap_or(u8::MAX);
+        let (width, height) = (area.width() as usize, area.height() as usize);
+        let values: Vec<f32> = (area.y0..area.y1)
+            .flat_map(|y| (area.x0..area.x1).map(move |x| (x, y)))
+            .map(|(x, y)| luminance(x, y) as f32)
+            .collect();
         let mut per_pass = Vec::with_capacity(window.pixels());
-        for y in window.y0..window.y1 {
-            for x in window.x0..window.x1 {
-                let (mut low, mut high) = (f64::INFINITY, f64::NEG_INFINITY);
-                for ny in y.saturating_sub(1)..(y + 2).min(area.y1) {
-                    for nx in x.saturating_sub(1)..(x + 2).min(area.x1) {
-                        if (nx, ny) != (x, y) && area.contains(nx, ny) {
-                            let value = at(nx, ny);
-                            low = low.min(value);
-                            high = high.max(value);
+        for y in (window.y0 - area.y0) as usize..(window.y1 - area.y0) as usize {
+            let rows = y.saturating_sub(1)..(y + 2).min(height);
+            for x in (window.x0 - area.x0) as usize..(window.x1 - area.x0) as usize {
+                let columns = x.saturating_sub(1)..(x + 2).min(width);
+                let (mut low, mut high) = (f32::INFINITY, f32::NEG_INFINITY);
+                for ny in rows.clone() {
+                    let row = &values[ny * width..(ny + 1) * width];
+                    for nx in columns.clone() {
+                        // The pixel's own value takes no part (module docs).
+                        if (nx, ny) != (x, y) {
+                            low = if row[nx] < low { row[nx] } else { low };
+                            high = if row[nx] > high { row[nx] } else { high };
                         }
                     }
                 }
@@ -88,7 +100,7 @@ impl EdgeMap {
     pub fn samples(&self, x: u32, y: u32) -> u32 {
         let index =
             (y - self.window.y0) as usize * self.window.width() as usize + (x - self.window.x0) as usize;
-        self.per_pass[index]
+        u32::from(self.per_pass[index])
     }
 
     /// Pixels with more than one sample per pass.
@@ -97,13 +109,16 @@ impl EdgeMap {
     }
 }
 
-/// True when neighbours spanning `low..=high` in luminance mark an edge.
-fn is_edge(low: f64, high: f64) -> bool {
+/// True when neighbours spanning `low..=high` in luminance mark an edge: a span above
+/// [`EDGE_CONTRAST`] times √(level² + [`LEVEL_FLOOR`]), the level their mid-range.
+fn is_edge(low: f32, high: f32) -> bool {
     if low > high {
         return false; // no neighbours (a 1×1 image)
     }
+    let (low, high) = (f64::from(low), f64::from(high));
     let level = 0.5 * (low + high);
-    high - low > EDGE_CONTRAST * (level * level + LEVEL_FLOOR).sqrt()
+    let span = high - low;
+    span * span > EDGE_CONTRAST * EDGE_CONTRAST * (level * level + LEVEL_FLOOR)
 }
 
 /// `window` grown by one pixel on each side, within a `width`×`height` image: the pixels whose
@@ -128,6 +143,11 @@ pub fn sample_index(pass: u32, per_pass: u32, sub: u32) -> u32 {
 mod tests {
     use super::*;
 
+    /// Pixel (x, y)'s value of a row-major image of `area`.
+    fn at(image: &[f64], area: PixelWindow) -> impl Fn(u32, u32) -> f64 + '_ {
+        move |x, y| image[((y - area.y0) * area.width() + x - area.x0) as usize]
+    }
+
     /// A 6×4 image dark on the left three columns, lit (1.0) on the right three.
     fn step() -> (PixelWindow, Vec<f64>) {
         let window = PixelWindow::full(6, 4);
@@ -138,7 +158,7 @@ mod tests {
     #[test]
     fn an_edge_refines_the_columns_beside_it_and_nothing_else() {
         let (window, luminance) = step();
-        let map = EdgeMap::find(window, window, &luminance, 4);
+        let map = EdgeMap::find(window, window, at(&luminance, window), 4);
         for y in 0..4 {
             for x in 0..6 {
                 let expected = if x == 2 || x == 3 { 4 } else { 1 };
@@ -156,7 +176,7 @@ mod tests {
         let window = PixelWindow::full(5, 5);
         let mut luminance = vec![0.5; 25];
         luminance[12] = 100.0;
-        let map = EdgeMap::find(window, window, &luminance, 3);
+        let map = EdgeMap::find(window, window, at(&luminance, window), 3);
         assert_eq!(map.samples(2, 2), 1);
         assert_eq!(map.samples(1, 1), 3);
         assert_eq!(map.edge_pixels(), 8);
@@ -182,8 +202,8 @@ mod tests {
             .flat_map(|y| (area.x0..area.x1).map(move |x| (x, y)))
             .map(|(x, y)| luminance[(y * full.width() + x) as usize])
             .collect();
-        let whole = EdgeMap::find(full, full, &luminance, 4);
-        let part = EdgeMap::find(window, area, &cropped, 4);
+        let whole = EdgeMap::find(full, full, at(&luminance, full), 4);
+        let part = EdgeMap::find(window, area, at(&cropped, area), 4);
         for y in window.y0..window.y1 {
             for x in window.x0..window.x1 {
                 assert_eq!(part.samples(x, y), whole.samples(x, y), "pixel ({x}, {y})");

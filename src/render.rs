@@ -490,6 +490,15 @@ fn find_edges(scene: &Scene, integrator: &Whitted, job: &Job, first_pass: Option
     let layout = job.layout();
     let stride = layout.values_per_pixel();
     let luminance = layout.luminance_index();
+    if let Some(sums) = first_pass.filter(|_| area == window) {
+        // All in the sums (the whole image): read them here, no work for the pool.
+        let camera = sums.camera();
+        let at = |x: u32, y: u32| {
+            let index = (y - window.y0) as usize * window.width() as usize + (x - window.x0) as usize;
+            camera[index * stride + luminance].mean(1.0)
+        };
+        return EdgeMap::find(window, area, at, job.settings.edge_samples);
+    }
     let none = EdgeMap::uniform(area);
     let rows: Vec<Vec<f64>> = (area.y0..area.y1)
         .into_par_iter()
@@ -520,7 +529,12 @@ fn find_edges(scene: &Scene, integrator: &Whitted, job: &Job, first_pass: Option
                 .collect()
         })
         .collect();
-    EdgeMap::find(window, area, &rows.concat(), job.settings.edge_samples)
+    EdgeMap::find(
+        window,
+        area,
+        |x, y| rows[(y - area.y0) as usize][(x - area.x0) as usize],
+        job.settings.edge_samples,
+    )
 }
 
 /// Renders the first pass of `edges`' edge pixels again with their samples per pass, in place

@@ -65,6 +65,8 @@ REPEATS = int(sys.argv[sys.argv.index("--repeat") + 1]) if "--repeat" in sys.arg
 SETTLE_SECONDS = 0.5
 # prisma's flags passed through from this script's command line.
 PRISMA_FLAGS = [flag for flag in ("--no-light-guide",) if flag in sys.argv]
+if "--edge-samples" in sys.argv:
+    PRISMA_FLAGS += ["--edge-samples", sys.argv[sys.argv.index("--edge-samples") + 1]]
 # Light paths per pass of prisma's renders in the races (--light-paths N; 0: the scene's, one per
 # pixel). prisma splits a render between camera samples and light paths, Mitsuba's ptracer
 # traces light paths only; half a light path per pixel per pass is the best split of the ball
