@@ -4,9 +4,8 @@
 //! on a few pixels that an edge crosses (a shadow's border, a spot light's cutoff, a silhouette):
 //! a pixel half lit, half dark gets 0 or full light from each sample. On the caustic bench's
 //! ball (validation/bench) 1 % of the pixels held 89 % of the camera side's relMSE at 1 spp.
-//! A render there spends its samples where they are worth most by giving such pixels
-//! `edge_samples` camera samples in every pass after the first, averaged into the pass's one
-//! value, so that the pass counts as one sample for the film, the exact sums and the merges of
+//! A render spends its samples where they are worth most by giving such pixels `edge_samples`
+//! camera samples in every pass, averaged into the pass's one value, so that the pass counts as one sample for the film, the exact sums and the merges of
 //! parts alike.
 //!
 //! **Which pixels**: after the first pass, a pixel is an edge pixel when the first-pass camera
@@ -19,10 +18,12 @@
 //! was unusual and bias them.) Only the camera side is refined; the light tracer's splats do
 //! not enter the choice.
 //!
-//! **Which sample values**: pixel p's sub-sample j of pass k ≥ 1 is point 1 + (k − 1)·m + j of
-//! its Sobol sequence, for m = its samples per pass (pass 0 is point 0): after any number of
-//! passes a pixel has used a prefix of its sequence, stratified as well as m times the passes
-//! of plain sampling. A pixel with m = 1 draws point k in pass k, exactly as without refinement.
+//! **Which sample values**: sub-sample j of pass k of a pixel of m samples per pass is point
+//! k·m + j of its Sobol sequence: after any number of passes a pixel has used a prefix of its
+//! sequence, stratified as well as m times the passes of plain sampling. The first pass's first
+//! sample (point 0) is taken before the map exists; an edge pixel keeps it, weighed 1/m, and
+//! completes the pass with points 1..m right after the map is made. A pixel with m = 1 draws
+//! point k in pass k, exactly as without refinement.
 //!
 //! The choice is a function of the first pass's values alone (the same bits whatever the
 //! threads), and a part of a split render that does not hold the first pass, or whose window
@@ -31,10 +32,9 @@
 use crate::part::PixelWindow;
 
 /// Contrast of the neighbours' first-pass luminance (range over level) above which a pixel is
-/// refined. On the caustic bench's ball 0.5 marks 7.6 % of the pixels, and refining them with 4
-/// samples per pass left the camera side's error of a 4-spp render (`/tmp`-free check: the
-/// error with every pixel at 4 spp was the same, 2.1e-4 relMSE); 1.0 marked 3.5 % and left
-/// four times that.
+/// refined. On the caustic bench's ball at 1 spp, 0.5 marks 7.6 % of the pixels, and giving those
+/// 4 samples left the camera side's relMSE where giving every pixel 4 samples does (2.1e-4,
+/// from 2.1e-3); 1.0 marked 3.5 % and left 8.8e-4.
 pub const EDGE_CONTRAST: f64 = 0.5;
 /// Squared luminance below which contrasts count absolutely rather than relative to the level:
 /// the floor of the validation's relMSE (a tenth of display white, squared).

@@ -8,9 +8,9 @@
 //! ([`crate::part`]).
 //!
 //! After the first pass the pixels an edge crosses get more camera samples per pass
-//! ([`crate::edges`], the scene's `edge_samples`): their first pass is rendered again with them,
-//! and each of their passes adds the mean of its samples, so a pass still counts one sample for
-//! the film and the merges.
+//! ([`crate::edges`], the scene's `edge_samples`): their first pass is completed with them, and
+//! each of their passes adds the mean of its samples, so a pass still counts one sample for the
+//! film and the merges.
 //!
 //! A render takes the sample indices of its [`Job`] (all of `0..spp` unless told) over its pixel
 //! window (the whole image unless told) in **sample blocks**: each block adds some samples to
@@ -127,7 +127,8 @@ impl Job {
 pub struct RenderStats {
     /// Rays cast (camera, specular and shadow, light paths and their connections).
     pub rays: u64,
-    /// Camera samples taken.
+    /// Camera samples in the image: one per pixel and pass, `edge_samples` per pass at edge
+    /// pixels ([`crate::edges`]).
     pub samples: u64,
     /// Wall-clock time.
     pub elapsed: Duration,
@@ -352,7 +353,7 @@ pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
                     }
                     if refine && first == 0 {
                         // The first pass is in the sums: the map from it, and the first pass of
-                        // the edge pixels again, with their samples per pass.
+                        // the edge pixels completed with their samples per pass.
                         edges = pool.install(|| find_edges(scene, &integrator, job, Some(&sums)));
                         let (redo_rays, failed) =
                             pool.install(|| redo_first_pass(scene, &integrator, job, &edges, &mut sums));
@@ -392,7 +393,10 @@ pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
     let done = samples.first(done);
     let stats = RenderStats {
         rays: rays + light_rays,
-        samples: done.len() * window.pixels() as u64,
+        // Every pass of an edge pixel takes its `edge_samples` (the first pass redone included).
+        samples: done.len()
+            * (window.pixels() as u64
+                + edges.edge_pixels() as u64 * u64::from(job.settings.edge_samples.saturating_sub(1))),
         elapsed: start.elapsed(),
         threads,
         light_paths: done.len() * light_paths_per_pass,
@@ -473,6 +477,7 @@ fn camera_block<B: Beam>(
                 window.x0,
                 row_sums,
                 block.clone(),
+                0,
             );
             progress.inc(u64::from(window.width()) * u64::from(block.end - block.start));
             result
@@ -512,9 +517,20 @@ fn find_edges(scene: &Scene, integrator: &Whitted, job: &Job, first_pass: Option
                 // A value that cannot be summed fails the render in its own pass; here it only
                 // leaves the pixel dark.
                 let _ = if layout.stokes {
-                    render_row::<Stokes>(scene, integrator, job, &layout, &none, y, x, pixel, 0..1)
+                    render_row::<Stokes>(scene, integrator, job, &layout, &none, y, x, pixel, 0..1, 0)
                 } else {
-                    render_row::<SampledSpectrum>(scene, integrator, job, &layout, &none, y, x, pixel, 0..1)
+                    render_row::<SampledSpectrum>(
+                        scene,
+                        integrator,
+                        job,
+                        &layout,
+                        &none,
+                        y,
+                        x,
+                        pixel,
+                        0..1,
+                        0,
+                    )
                 };
             }
             (area.x0..area.x1)
@@ -537,9 +553,9 @@ fn find_edges(scene: &Scene, integrator: &Whitted, job: &Job, first_pass: Option
     )
 }
 
-/// Renders the first pass of `edges`' edge pixels again with their samples per pass, in place
-/// of the one sample each had in `sums` (which hold the first pass only): the rays cast, and the
-/// first pixel whose samples could not be summed, if any.
+/// Completes the first pass of `edges`' edge pixels (`sums` hold the first pass only): the one
+/// sample each took is weighed 1/m and joined by the pass's other m − 1 samples, as in every
+/// later pass. The rays cast, and the first pixel whose samples could not be summed, if any.
 fn redo_first_pass(
     scene: &Scene,
     integrator: &Whitted,
@@ -561,12 +577,32 @@ fn redo_first_pass(
                 if edges.samples(x, y) == 1 {
                     continue;
                 }
-                pixel.fill(FixedSum::ZERO);
+                // The first sample stays, at its weight 1/m like the others.
+                let weight = 1.0 / f64::from(edges.samples(x, y));
+                let mut scaled = true;
+                for sum in pixel.iter_mut().filter(|sum| !sum.is_zero()) {
+                    match FixedSum::from_f64(sum.to_f64() * weight) {
+                        Some(value) => *sum = value,
+                        None => scaled = false,
+                    }
+                }
                 let (rays, failed) = if layout.stokes {
-                    render_row::<Stokes>(scene, integrator, job, &layout, edges, y, x, pixel, 0..1)
+                    render_row::<Stokes>(scene, integrator, job, &layout, edges, y, x, pixel, 0..1, 1)
                 } else {
-                    render_row::<SampledSpectrum>(scene, integrator, job, &layout, edges, y, x, pixel, 0..1)
+                    render_row::<SampledSpectrum>(
+                        scene,
+                        integrator,
+                        job,
+                        &layout,
+                        edges,
+                        y,
+                        x,
+                        pixel,
+                        0..1,
+                        1,
+                    )
                 };
+                let failed = failed.or((!scaled).then_some((x, y)));
                 result = (result.0 + rays, result.1.or(failed));
             }
             result
@@ -755,8 +791,9 @@ fn trace_block<B: Beam>(
 
 /// Adds samples (passes) `block` of the pixels `x0..` of row `y` to their sums `row_sums` (the
 /// row of the window), carrying beams of type `B`, each pass of a pixel the mean of its
-/// [`EdgeMap::samples`] camera samples: the rays cast, and the first pixel whose samples could
-/// not be summed, if any.
+/// [`EdgeMap::samples`] camera samples (from sample `first_sub` of each pass on: 1 to complete
+/// a first pass whose first sample is in already): the rays cast, and the first pixel whose
+/// samples could not be summed, if any.
 #[allow(clippy::too_many_arguments)] // the row's place and the render's state, passed flat
 fn render_row<B: Beam>(
     scene: &Scene,
@@ -768,6 +805,7 @@ fn render_row<B: Beam>(
     x0: u32,
     row_sums: &mut [FixedSum],
     block: std::ops::Range<u32>,
+    first_sub: u32,
 ) -> (u64, Option<(u32, u32)>) {
     let settings = &job.settings;
     let mut stats = TraceStats::default();
@@ -802,7 +840,7 @@ fn render_row<B: Beam>(
             let mut ok = true;
             // The pass adds the mean of its samples: each weighs 1/m (1 exactly for one).
             let weight = 1.0 / per_pass as f32;
-            for sub in 0..per_pass {
+            for sub in first_sub..per_pass {
                 ok &= sample(edges::sample_index(pass, per_pass, sub), pixel_sums, weight);
             }
             if !ok {
