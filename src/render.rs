@@ -351,10 +351,28 @@ pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
                     if let Some((x, y)) = failed {
                         return Err(not_summable(x, y));
                     }
+                    let paths =
+                        u64::from(first) * light_paths_per_pass..u64::from(end) * light_paths_per_pass;
+                    if light_paths_per_pass > 0 {
+                        // The paths that teach the guide first (if the block holds any) ...
+                        let light_start = Instant::now();
+                        light_rays +=
+                            light.trace_learning(&pool, job, Some(&mut sums), &paths, width, &progress)?;
+                        light_elapsed += light_start.elapsed();
+                    }
                     if refine && first == 0 {
-                        // The first pass is in the sums: the map from it, and the first pass of
-                        // the edge pixels completed with their samples per pass.
-                        edges = pool.install(|| find_edges(scene, &integrator, job, Some(&sums)));
+                        // ... then the edge map from the first pass in the sums, while the guide
+                        // learns (each on one thread: neither has work for two), and the first
+                        // pass of the edge pixels completed with their samples per pass.
+                        let first_pass = &sums;
+                        let light = &mut light;
+                        edges = pool.install(|| {
+                            rayon::join(
+                                || find_edges(scene, &integrator, job, Some(first_pass)),
+                                || light.learn_after(paths.end, (width, height)),
+                            )
+                            .0
+                        });
                         let (redo_rays, failed) =
                             pool.install(|| redo_first_pass(scene, &integrator, job, &edges, &mut sums));
                         rays += redo_rays;
@@ -363,11 +381,11 @@ pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
                         }
                     }
                     if light_paths_per_pass > 0 {
+                        // ... and the rest of the block's light paths, by the guide.
                         let light_start = Instant::now();
-                        let paths =
-                            u64::from(first) * light_paths_per_pass..u64::from(end) * light_paths_per_pass;
+                        light.learn_after(paths.end, (width, height));
                         light_rays +=
-                            light.trace(&pool, job, Some(&mut sums), paths, (width, height), &progress)?;
+                            light.trace_guided(&pool, job, Some(&mut sums), &paths, width, &progress)?;
                         light_elapsed += light_start.elapsed();
                     }
                     done += u64::from(end - first);
@@ -635,9 +653,10 @@ impl<'a> LightPasses<'a> {
         }
     }
 
-    /// Learns the guide from the paths recorded, once.
-    fn learn(&mut self, display: (u32, u32)) {
-        if self.guided.is_some() || self.learning_paths == 0 {
+    /// Learns the guide from the paths recorded, once, when light paths up to `paths_end` have
+    /// been traced and they include all the learning paths.
+    fn learn_after(&mut self, paths_end: u64, display: (u32, u32)) {
+        if self.guided.is_some() || self.learning_paths == 0 || paths_end < self.learning_paths {
             return;
         }
         let learned = guide::learn(&self.record, display);
@@ -657,34 +676,50 @@ impl<'a> LightPasses<'a> {
         display: (u32, u32),
         progress: &ProgressBar,
     ) -> Result<u64, RenderError> {
-        let part = |from: u64, to: u64| paths.start.max(from)..paths.end.min(to);
-        let mut rays = 0;
-        let learning = part(0, self.learning_paths);
-        if !learning.is_empty() {
-            // Recorded unless the guide is learned already (a part that learned first).
-            let record = self.guided.is_none();
-            let (block_rays, record) = light_block(
-                pool,
-                &self.uniform,
-                job,
-                sums.as_deref_mut(),
-                learning,
-                display.0,
-                progress,
-                record,
-            )?;
-            rays += block_rays;
-            self.record.append(record);
+        let rays = self.trace_learning(pool, job, sums.as_deref_mut(), &paths, display.0, progress)?;
+        self.learn_after(paths.end, display);
+        Ok(rays + self.trace_guided(pool, job, sums, &paths, display.0, progress)?)
+    }
+
+    /// Traces the learning paths among `paths` (uniformly, recorded for the guide unless it is
+    /// learned already: a part that learned first): the rays.
+    fn trace_learning(
+        &mut self,
+        pool: &rayon::ThreadPool,
+        job: &Job,
+        sums: Option<&mut WindowSums>,
+        paths: &std::ops::Range<u64>,
+        display_width: u32,
+        progress: &ProgressBar,
+    ) -> Result<u64, RenderError> {
+        let learning = paths.start..paths.end.min(self.learning_paths);
+        if learning.is_empty() {
+            return Ok(0);
         }
-        if paths.end >= self.learning_paths {
-            self.learn(display);
-        }
-        let rest = part(self.learning_paths, u64::MAX);
-        if !rest.is_empty() {
-            let tracer = self.guided.as_ref().unwrap_or(&self.uniform);
-            rays += light_block(pool, tracer, job, sums, rest, display.0, progress, false)?.0;
-        }
+        let record = self.guided.is_none();
+        let (rays, record) =
+            light_block(pool, &self.uniform, job, sums, learning, display_width, progress, record)?;
+        self.record.append(record);
         Ok(rays)
+    }
+
+    /// Traces the paths among `paths` past the learning paths, by the guide once learned
+    /// ([`Self::learn_after`]; uniformly without one): the rays.
+    fn trace_guided(
+        &self,
+        pool: &rayon::ThreadPool,
+        job: &Job,
+        sums: Option<&mut WindowSums>,
+        paths: &std::ops::Range<u64>,
+        display_width: u32,
+        progress: &ProgressBar,
+    ) -> Result<u64, RenderError> {
+        let rest = paths.start.max(self.learning_paths)..paths.end;
+        if rest.is_empty() {
+            return Ok(0);
+        }
+        let tracer = self.guided.as_ref().unwrap_or(&self.uniform);
+        Ok(light_block(pool, tracer, job, sums, rest, display_width, progress, false)?.0)
     }
 }
 
