@@ -69,10 +69,12 @@ if "--edge-samples" in sys.argv:
     PRISMA_FLAGS += ["--edge-samples", sys.argv[sys.argv.index("--edge-samples") + 1]]
 # Light paths per pass of prisma's renders in the races (--light-paths N; 0: the scene's, one per
 # pixel). prisma splits a render between camera samples and light paths, Mitsuba's ptracer
-# traces light paths only; half a light path per pixel per pass is the best split of the ball
-# lens at 550 nm with the guide (the time to relMSE 1e-3 / 1e-4, best of 3, 2026-12-04 10:05 UTC:
-# 4,096 paths 13.0 / 61.2 ms, 6,144 12.9 / 56.6 ms, 9,216 14.1 / 59.5 ms, 12,288 15.3 / 64.0 ms).
-LIGHT_PATHS = int(sys.argv[sys.argv.index("--light-paths") + 1]) if "--light-paths" in sys.argv else 6144
+# traces light paths only. With edge refinement (src/edges.rs) one pass leaves the camera side
+# little error (2.1e-4 relMSE on the ball at 1 spp), so the light paths decide and a pass can
+# hold many: two per pixel per pass is the best split of the ball lens at 550 nm (best of 3, six
+# runs each on 2026-12-04 18:01-18:19 UTC, the time to relMSE 1e-3 / 1e-4: 12,288 paths 7.4-9.1 /
+# 33-37 ms (three runs), 16,384 7.3-10.7 / 30.5-34.1 ms, 24,576 7.4-9.3 / 27.6-35.7 ms).
+LIGHT_PATHS = int(sys.argv[sys.argv.index("--light-paths") + 1]) if "--light-paths" in sys.argv else 24576
 
 
 def load(path):
