@@ -373,9 +373,9 @@ pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
                             )
                             .0
                         });
-                        let (redo_rays, failed) =
-                            pool.install(|| redo_first_pass(scene, &integrator, job, &edges, &mut sums));
-                        rays += redo_rays;
+                        let (completing_rays, failed) =
+                            pool.install(|| complete_first_pass(scene, &integrator, job, &edges, &mut sums));
+                        rays += completing_rays;
                         if let Some((x, y)) = failed {
                             return Err(not_summable(x, y));
                         }
@@ -411,7 +411,7 @@ pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
     let done = samples.first(done);
     let stats = RenderStats {
         rays: rays + light_rays,
-        // Every pass of an edge pixel takes its `edge_samples` (the first pass redone included).
+        // Every pass of an edge pixel takes its `edge_samples` (the first pass completed included).
         samples: done.len()
             * (window.pixels() as u64
                 + edges.edge_pixels() as u64 * u64::from(job.settings.edge_samples.saturating_sub(1))),
@@ -534,22 +534,7 @@ fn find_edges(scene: &Scene, integrator: &Whitted, job: &Job, first_pass: Option
                 let pixel = &mut rendered[at..at + stride];
                 // A value that cannot be summed fails the render in its own pass; here it only
                 // leaves the pixel dark.
-                let _ = if layout.stokes {
-                    render_row::<Stokes>(scene, integrator, job, &layout, &none, y, x, pixel, 0..1, 0)
-                } else {
-                    render_row::<SampledSpectrum>(
-                        scene,
-                        integrator,
-                        job,
-                        &layout,
-                        &none,
-                        y,
-                        x,
-                        pixel,
-                        0..1,
-                        0,
-                    )
-                };
+                let _ = first_pass_of_pixel(scene, integrator, job, &layout, &none, (x, y), pixel, 0);
             }
             (area.x0..area.x1)
                 .map(|x| match first_pass {
@@ -574,7 +559,7 @@ fn find_edges(scene: &Scene, integrator: &Whitted, job: &Job, first_pass: Option
 /// Completes the first pass of `edges`' edge pixels (`sums` hold the first pass only): the one
 /// sample each took is weighed 1/m and joined by the pass's other m − 1 samples, as in every
 /// later pass. The rays cast, and the first pixel whose samples could not be summed, if any.
-fn redo_first_pass(
+fn complete_first_pass(
     scene: &Scene,
     integrator: &Whitted,
     job: &Job,
@@ -604,28 +589,34 @@ fn redo_first_pass(
                         None => scaled = false,
                     }
                 }
-                let (rays, failed) = if layout.stokes {
-                    render_row::<Stokes>(scene, integrator, job, &layout, edges, y, x, pixel, 0..1, 1)
-                } else {
-                    render_row::<SampledSpectrum>(
-                        scene,
-                        integrator,
-                        job,
-                        &layout,
-                        edges,
-                        y,
-                        x,
-                        pixel,
-                        0..1,
-                        1,
-                    )
-                };
+                let (rays, failed) =
+                    first_pass_of_pixel(scene, integrator, job, &layout, edges, (x, y), pixel, 1);
                 let failed = failed.or((!scaled).then_some((x, y)));
                 result = (result.0 + rays, result.1.or(failed));
             }
             result
         })
         .reduce(|| (0, None), |a, b| (a.0 + b.0, a.1.or(b.1)))
+}
+
+/// The first pass of pixel `at` into its sums `pixel`, its samples from `first_sub` on
+/// ([`render_row`] for one pixel, carrying the layout's beams).
+#[allow(clippy::too_many_arguments)] // the pixel's place and the render's state, passed flat
+fn first_pass_of_pixel(
+    scene: &Scene,
+    integrator: &Whitted,
+    job: &Job,
+    layout: &FilmLayout,
+    edges: &EdgeMap,
+    (x, y): (u32, u32),
+    pixel: &mut [FixedSum],
+    first_sub: u32,
+) -> (u64, Option<(u32, u32)>) {
+    if layout.stokes {
+        render_row::<Stokes>(scene, integrator, job, layout, edges, y, x, pixel, 0..1, first_sub)
+    } else {
+        render_row::<SampledSpectrum>(scene, integrator, job, layout, edges, y, x, pixel, 0..1, first_sub)
+    }
 }
 
 /// The light tracer's passes: the first `learning_paths` light paths of the render start
