@@ -287,7 +287,9 @@ pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
             .is_some_and(|r| r.start == 0 && u64::from(r.end) * light_paths_per_pass >= light.learning_paths)
     {
         let learning = 0..light.learning_paths;
-        light.trace(&pool, job, None, learning, (width, height), &ProgressBar::hidden())?;
+        let hidden = ProgressBar::hidden();
+        let run = LightRun { pool: &pool, job, display: (width, height), progress: &hidden };
+        light.trace(&run, None, learning)?;
         light_elapsed = start.elapsed();
     }
     // Edge refinement needs the first pass: from the sums right after it when this render
@@ -307,6 +309,7 @@ pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
     let mut rays = 0;
     let mut light_rays = 0;
     let finished = AtomicBool::new(false);
+    let light_run = LightRun { pool: &pool, job, display: (width, height), progress: &progress };
     let result: Result<(), RenderError> = std::thread::scope(|scope| {
         let logger = job.progress_log.map(|every| {
             let (progress, finished) = (&progress, &finished);
@@ -325,27 +328,7 @@ pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
                     let end = range.end.min(first.saturating_add(block_len));
                     let block_start = Instant::now();
                     let (block_rays, failed) = pool.install(|| {
-                        if layout.stokes {
-                            camera_block::<Stokes>(
-                                scene,
-                                &integrator,
-                                job,
-                                &edges,
-                                &mut sums,
-                                first..end,
-                                &progress,
-                            )
-                        } else {
-                            camera_block::<SampledSpectrum>(
-                                scene,
-                                &integrator,
-                                job,
-                                &edges,
-                                &mut sums,
-                                first..end,
-                                &progress,
-                            )
-                        }
+                        camera_block(scene, &integrator, job, &edges, &mut sums, first..end, &progress)
                     });
                     rays += block_rays;
                     if let Some((x, y)) = failed {
@@ -356,8 +339,7 @@ pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
                     if light_paths_per_pass > 0 {
                         // The paths that teach the guide first (if the block holds any) ...
                         let light_start = Instant::now();
-                        light_rays +=
-                            light.trace_learning(&pool, job, Some(&mut sums), &paths, width, &progress)?;
+                        light_rays += light.trace_learning(&light_run, Some(&mut sums), &paths)?;
                         light_elapsed += light_start.elapsed();
                     }
                     if refine && first == 0 {
@@ -384,8 +366,7 @@ pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
                         // ... and the rest of the block's light paths, by the guide.
                         let light_start = Instant::now();
                         light.learn_after(paths.end, (width, height));
-                        light_rays +=
-                            light.trace_guided(&pool, job, Some(&mut sums), &paths, width, &progress)?;
+                        light_rays += light.trace_guided(&light_run, Some(&mut sums), &paths)?;
                         light_elapsed += light_start.elapsed();
                     }
                     done += u64::from(end - first);
@@ -466,7 +447,7 @@ pub fn clock(seconds: f64) -> String {
 
 /// Adds samples `block` of every pixel of the window to `sums`, rows in parallel: the rays
 /// cast, and the first pixel whose samples could not be summed, if any.
-fn camera_block<B: Beam>(
+fn camera_block(
     scene: &Scene,
     integrator: &Whitted,
     job: &Job,
@@ -485,14 +466,13 @@ fn camera_block<B: Beam>(
         .enumerate()
         .map(|(row, row_sums)| {
             let y = window.y0 + row as u32;
-            let result = render_row::<B>(
+            let result = render_span(
                 scene,
                 integrator,
                 job,
                 &layout,
                 edges,
-                y,
-                window.x0,
+                (window.x0, y),
                 row_sums,
                 block.clone(),
                 0,
@@ -534,7 +514,7 @@ fn find_edges(scene: &Scene, integrator: &Whitted, job: &Job, first_pass: Option
                 let pixel = &mut rendered[at..at + stride];
                 // A value that cannot be summed fails the render in its own pass; here it only
                 // leaves the pixel dark.
-                let _ = first_pass_of_pixel(scene, integrator, job, &layout, &none, (x, y), pixel, 0);
+                let _ = render_span(scene, integrator, job, &layout, &none, (x, y), pixel, 0..1, 0);
             }
             (area.x0..area.x1)
                 .map(|x| match first_pass {
@@ -590,7 +570,7 @@ fn complete_first_pass(
                     }
                 }
                 let (rays, failed) =
-                    first_pass_of_pixel(scene, integrator, job, &layout, edges, (x, y), pixel, 1);
+                    render_span(scene, integrator, job, &layout, edges, (x, y), pixel, 0..1, 1);
                 let failed = failed.or((!scaled).then_some((x, y)));
                 result = (result.0 + rays, result.1.or(failed));
             }
@@ -599,23 +579,24 @@ fn complete_first_pass(
         .reduce(|| (0, None), |a, b| (a.0 + b.0, a.1.or(b.1)))
 }
 
-/// The first pass of pixel `at` into its sums `pixel`, its samples from `first_sub` on
-/// ([`render_row`] for one pixel, carrying the layout's beams).
-#[allow(clippy::too_many_arguments)] // the pixel's place and the render's state, passed flat
-fn first_pass_of_pixel(
+/// [`render_row`] from pixel `at` on (as many pixels as `sums` hold), carrying the layout's
+/// beams: Stokes vectors or spectra.
+#[allow(clippy::too_many_arguments)] // the pixels' place and the render's state, passed flat
+fn render_span(
     scene: &Scene,
     integrator: &Whitted,
     job: &Job,
     layout: &FilmLayout,
     edges: &EdgeMap,
     (x, y): (u32, u32),
-    pixel: &mut [FixedSum],
+    sums: &mut [FixedSum],
+    passes: std::ops::Range<u32>,
     first_sub: u32,
 ) -> (u64, Option<(u32, u32)>) {
     if layout.stokes {
-        render_row::<Stokes>(scene, integrator, job, layout, edges, y, x, pixel, 0..1, first_sub)
+        render_row::<Stokes>(scene, integrator, job, layout, edges, y, x, sums, passes, first_sub)
     } else {
-        render_row::<SampledSpectrum>(scene, integrator, job, layout, edges, y, x, pixel, 0..1, first_sub)
+        render_row::<SampledSpectrum>(scene, integrator, job, layout, edges, y, x, sums, passes, first_sub)
     }
 }
 
@@ -660,36 +641,28 @@ impl<'a> LightPasses<'a> {
     /// light tracer's rays.
     fn trace(
         &mut self,
-        pool: &rayon::ThreadPool,
-        job: &Job,
+        run: &LightRun,
         mut sums: Option<&mut WindowSums>,
         paths: std::ops::Range<u64>,
-        display: (u32, u32),
-        progress: &ProgressBar,
     ) -> Result<u64, RenderError> {
-        let rays = self.trace_learning(pool, job, sums.as_deref_mut(), &paths, display.0, progress)?;
-        self.learn_after(paths.end, display);
-        Ok(rays + self.trace_guided(pool, job, sums, &paths, display.0, progress)?)
+        let rays = self.trace_learning(run, sums.as_deref_mut(), &paths)?;
+        self.learn_after(paths.end, run.display);
+        Ok(rays + self.trace_guided(run, sums, &paths)?)
     }
 
     /// Traces the learning paths among `paths` (uniformly, recorded for the guide unless it is
     /// learned already: a part that learned first): the rays.
     fn trace_learning(
         &mut self,
-        pool: &rayon::ThreadPool,
-        job: &Job,
+        run: &LightRun,
         sums: Option<&mut WindowSums>,
         paths: &std::ops::Range<u64>,
-        display_width: u32,
-        progress: &ProgressBar,
     ) -> Result<u64, RenderError> {
         let learning = paths.start..paths.end.min(self.learning_paths);
         if learning.is_empty() {
             return Ok(0);
         }
-        let record = self.guided.is_none();
-        let (rays, record) =
-            light_block(pool, &self.uniform, job, sums, learning, display_width, progress, record)?;
+        let (rays, record) = light_block(run, &self.uniform, sums, learning, self.guided.is_none())?;
         self.record.append(record);
         Ok(rays)
     }
@@ -698,23 +671,29 @@ impl<'a> LightPasses<'a> {
     /// ([`Self::learn_after`]; uniformly without one): the rays.
     fn trace_guided(
         &self,
-        pool: &rayon::ThreadPool,
-        job: &Job,
+        run: &LightRun,
         sums: Option<&mut WindowSums>,
         paths: &std::ops::Range<u64>,
-        display_width: u32,
-        progress: &ProgressBar,
     ) -> Result<u64, RenderError> {
         let rest = paths.start.max(self.learning_paths)..paths.end;
         if rest.is_empty() {
             return Ok(0);
         }
         let tracer = self.guided.as_ref().unwrap_or(&self.uniform);
-        Ok(light_block(pool, tracer, job, sums, rest, display_width, progress, false)?.0)
+        Ok(light_block(run, tracer, sums, rest, false)?.0)
     }
 }
 
-/// Traces the light paths `paths` in blocks on `pool` and adds their splats in the window to
+/// Where light paths are traced: the render's pool and job, the display (width, height) their
+/// splats land on, and the progress bar they advance.
+struct LightRun<'r> {
+    pool: &'r rayon::ThreadPool,
+    job: &'r Job,
+    display: (u32, u32),
+    progress: &'r ProgressBar,
+}
+
+/// Traces the light paths `paths` in blocks on `run`'s pool and adds their splats in the window to
 /// `sums` (unless `None`): the rays cast, and when `record` the paths' record for learning a
 /// guide (in path order; [`guide::Record`]).
 ///
@@ -725,15 +704,13 @@ impl<'a> LightPasses<'a> {
 /// one.
 #[allow(clippy::too_many_arguments)] // the render's state, passed flat
 fn light_block(
-    pool: &rayon::ThreadPool,
+    run: &LightRun,
     tracer: &LightTracer,
-    job: &Job,
     sums: Option<&mut WindowSums>,
     paths: std::ops::Range<u64>,
-    display_width: u32,
-    progress: &ProgressBar,
     record: bool,
 ) -> Result<(u64, guide::Record), RenderError> {
+    let LightRun { pool, job, display: (display_width, _), progress } = *run;
     let layout = tracer.splat_layout(&job.layout());
     let first_block = paths.start / LIGHT_PATH_BLOCK;
     let end_block = paths.end.div_ceil(LIGHT_PATH_BLOCK);
