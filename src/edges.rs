@@ -4,9 +4,13 @@
 //! on a few pixels that an edge crosses (a shadow's border, a spot light's cutoff, a silhouette):
 //! a pixel half lit, half dark gets 0 or full light from each sample. On the caustic bench's
 //! ball (validation/bench) 1 % of the pixels held 89 % of the camera side's relMSE at 1 spp.
-//! A render spends its samples where they are worth most by giving such pixels `edge_samples`
-//! camera samples in every pass, averaged into the pass's one value, so that the pass counts as one sample for the film, the exact sums and the merges of
-//! parts alike.
+//! With `edge_samples` = m > 1 (the scene's `[render]`, `--edge-samples`), a render spends its
+//! samples there: such pixels take m camera samples in every pass, averaged into the pass's one
+//! value, so that the pass counts as one sample for the film, the exact sums and the merges of
+//! parts alike. Off (m = 1) by default: where edge pixels are many and see glass, refining them
+//! costs more than it gives (the showcase at 32 spp: a fifth of its pixels, 2.6× the time);
+//! at a few passes with sharp shadows or light edges on cheap surfaces, as in a caustic preview,
+//! it pays several times over (the caustic bench, validation/bench/RESULTS.md).
 //!
 //! **Which pixels**: after the first pass, a pixel is an edge pixel when the first-pass camera
 //! luminance of its (up to 8) neighbours spans more than [`EDGE_CONTRAST`] times their level

@@ -63,6 +63,7 @@ fn refinement_is_deterministic() {
     let scene = scene("tp6_mirror_glass.toml", 40, 30);
     let mut job = Job::new(scene.settings.clone());
     job.settings.spp = 2;
+    job.settings.edge_samples = 4;
     job.progress = false;
     let images: Vec<Vec<glam::Vec3>> = [1, 2, 3]
         .into_iter()

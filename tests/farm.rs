@@ -52,6 +52,11 @@ fn image_bits(sums: &WindowSums, samples: u64, light_paths: u64, display: (u32, 
 /// Checks that each partition (lists of (samples, window)) merges, in the order given and
 /// reversed, into the sums and image of the single render.
 fn check_partitions(scene: &Scene, job: &Job, partitions: &[Vec<(&str, Option<PixelWindow>)>]) {
+    // With edge refinement, which parts that do not hold the first pass or whose window has
+    // neighbours outside it must reproduce.
+    let mut job = job.clone();
+    job.settings.edge_samples = 4;
+    let job = &job;
     let display = (scene.camera.width(), scene.camera.height());
     let whole = format!("0..{}", job.settings.spp);
     let (_, single) = part(scene, job, &whole, None, 2);
@@ -168,11 +173,13 @@ fn an_interrupted_caustic_render_resumes_into_the_uninterrupted_image() {
     job.settings.spp = 4;
     job.settings.caustics = true;
     job.settings.light_paths = Some(5000);
+    job.settings.edge_samples = 4;
     let stopped = render_sums(&scene, &Job { stop_after_blocks: Some(1), ..job.clone() }).unwrap();
     assert_eq!(stopped.samples.to_string(), "0..1", "the first block is one sample");
     let rest = stopped.samples.missing_below(4);
     let resumed = render_sums(&scene, &Job { samples: Some(rest), ..job.clone() }).unwrap();
     let whole = render_sums(&scene, &job).unwrap();
+    assert!(whole.stats.edge_pixels > 0);
     assert!(whole.stats.light_guide_gain.is_some_and(|g| g >= prisma::integrator::guide::MIN_PREDICTED_GAIN));
     assert_eq!(resumed.stats.light_guide_gain, whole.stats.light_guide_gain);
     let mut sums = stopped.sums.clone();
@@ -187,12 +194,14 @@ fn an_interrupted_render_resumes_into_the_uninterrupted_image() {
     let scene = scene("tp6_mirror_flint.toml", 20, 12);
     let mut job = Job::new(scene.settings.clone());
     job.settings.spp = 5;
+    job.settings.edge_samples = 4;
     let stopped = render_sums(&scene, &Job { stop_after_blocks: Some(1), ..job.clone() }).unwrap();
     assert!(stopped.interrupted);
     assert_eq!(stopped.samples.to_string(), "0..1", "the first block is one sample");
     let rest = stopped.samples.missing_below(5);
     let resumed = render_sums(&scene, &Job { samples: Some(rest), ..job.clone() }).unwrap();
     let whole = render_sums(&scene, &job).unwrap();
+    assert!(whole.stats.edge_pixels > 0);
     let mut sums = stopped.sums.clone();
     sums.add(&resumed.sums).unwrap();
     assert!(sums == whole.sums);

@@ -8,6 +8,7 @@ fn stats_file_holds_the_jobs_figures() {
     let stats = dir.path().join("stats.json");
     let output = Command::new(env!("CARGO_BIN_EXE_prisma"))
         .args(["render", "validation/scenes/specular_spheres.toml", "--width", "20", "--spp", "4", "--quiet"])
+        .args(["--edge-samples", "4"])
         .arg("-o")
         .arg(dir.path().join("image.exr"))
         .arg("--stats")
@@ -16,8 +17,8 @@ fn stats_file_holds_the_jobs_figures() {
         .unwrap();
     assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
     let figures: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
-    // 20 × 15 pixels (the scene is 4:3), 4 passes each, edge pixels 4 samples per pass (the
-    // default `edge_samples`); every sample casts its camera ray.
+    // 20 × 15 pixels (the scene is 4:3), 4 passes each, edge pixels 4 samples per pass; every
+    // sample casts its camera ray.
     assert_eq!(figures["width"], 20);
     assert_eq!(figures["height"], 15);
     let edge_pixels = figures["edge_pixels"].as_u64().unwrap();

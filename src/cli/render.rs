@@ -80,7 +80,7 @@ pub struct RenderArgs {
     no_light_guide: bool,
     /// Camera samples per pass of the pixels an edge crosses (shadow borders, silhouettes),
     /// chosen after the first pass; 1 turns edge refinement off [default: the scene's
-    /// `edge_samples`, else 4].
+    /// `edge_samples`, else 1].
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=i64::from(prisma::edges::MAX_EDGE_SAMPLES)))]
     edge_samples: Option<u32>,
     /// Light paths per pass with caustics (a render makes one pass per sample per pixel)

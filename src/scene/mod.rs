@@ -73,7 +73,7 @@ impl Default for RenderSettings {
             caustics: false,
             light_paths: None,
             light_guide: true,
-            edge_samples: 4,
+            edge_samples: 1,
         }
     }
 }

@@ -29,6 +29,7 @@ than wall time, which is what the target is stated in.
   validation/.venv/bin/python validation/bench/caustics_bench.py --sampler ldsampler  # ptracer's sampler
   validation/.venv/bin/python validation/bench/caustics_bench.py --no-light-guide     # prisma unguided
   validation/.venv/bin/python validation/bench/caustics_bench.py --light-paths 0      # the scene's split
+  validation/.venv/bin/python validation/bench/caustics_bench.py --edge-samples 1    # no edge refinement
 
 The prisma binary is $PRISMA, else target/release/prisma of this repository (translate.find_prisma).
 Mitsuba's sampler is `independent` (ptracer's usual one, and the references') unless --sampler
@@ -65,8 +66,9 @@ REPEATS = int(sys.argv[sys.argv.index("--repeat") + 1]) if "--repeat" in sys.arg
 SETTLE_SECONDS = 0.5
 # prisma's flags passed through from this script's command line.
 PRISMA_FLAGS = [flag for flag in ("--no-light-guide",) if flag in sys.argv]
-if "--edge-samples" in sys.argv:
-    PRISMA_FLAGS += ["--edge-samples", sys.argv[sys.argv.index("--edge-samples") + 1]]
+# Camera samples per pass at edge pixels (src/edges.rs; --edge-samples N): prisma's default is 1
+# (off), the races use 4, which leaves one pass a tenth of the camera side's error on the ball.
+PRISMA_FLAGS += ["--edge-samples", sys.argv[sys.argv.index("--edge-samples") + 1] if "--edge-samples" in sys.argv else "4"]
 # Light paths per pass of prisma's renders in the races (--light-paths N; 0: the scene's, one per
 # pixel). prisma splits a render between camera samples and light paths, Mitsuba's ptracer
 # traces light paths only. With edge refinement (src/edges.rs) one pass leaves the camera side
