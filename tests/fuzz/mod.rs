@@ -514,13 +514,14 @@ fn m_ior(text: &str, rng: &mut Rng) -> String {
 }
 
 fn m_render(text: &str, rng: &mut Rng) -> String {
-    let settings: [(&str, &[&str]); 6] = [
+    let settings: [(&str, &[&str]); 7] = [
         ("spp", NUMS),
         ("max_depth", &["1", "4096", "4097", "0", "16", "100", "1000", "-1"]),
         ("wavelengths", &["0", "1", "2", "3", "7", "8", "9", "16", "-1"]),
         ("seed", NUMS),
         ("area_light_samples", &["0", "1", "2", "3", "1000", "65536", "65537"]),
         ("prune_below", &["0", "0.5", "0.999999", "1", "-0.1", "nan", "1e-30", "inf"]),
+        ("edge_samples", &["0", "1", "2", "4", "64", "65", "-1", "1e9"]),
     ];
     let mut body = String::new();
     for (key, values) in settings {
