@@ -144,7 +144,7 @@ pub struct RenderStats {
     /// ([`crate::integrator::guide::learn`]; used when at least
     /// [`crate::integrator::guide::MIN_PREDICTED_GAIN`]), if it learned one.
     pub light_guide_gain: Option<f64>,
-    /// Pixels of the window that took `edge_samples` camera samples per pass after the first
+    /// Pixels of the window that took `edge_samples` camera samples per pass
     /// ([`crate::edges`]).
     pub edge_pixels: usize,
 }

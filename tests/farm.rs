@@ -239,6 +239,16 @@ fn merges_of_parts_that_do_not_belong_together_are_refused() {
     )
     .contains("different settings"));
     assert!(refusal(&with(|h| h.commit = "another".into()), false).contains("different prisma commit"));
+    // Parts with and without edge refinement sample edge pixels differently: refused. Without
+    // it, the settings do not mention it (parts of earlier versions merge with these).
+    assert!(!a.1.header.settings.contains("edge_samples"), "{}", a.1.header.settings);
+    let refined = Job {
+        settings: prisma::scene::RenderSettings { edge_samples: 4, ..job.settings.clone() },
+        ..job.clone()
+    };
+    let b_refined = part(&scene, &refined, "2..4", None, 1);
+    assert!(b_refined.1.header.settings.contains("\"edge_samples\":4"), "{}", b_refined.1.header.settings);
+    assert!(refusal(&[a.clone(), b_refined], false).contains("different settings"));
     // Overlapping samples, and overlapping windows with overlapping samples.
     let c = part(&scene, &job, "1..3", None, 1);
     assert!(refusal(&[a.clone(), c], false).contains("overlapping parts"));

@@ -9,7 +9,7 @@
 //! | `prisma.seed` | seed of the sample sequences |
 //! | `prisma.samples`, `prisma.spp` | sample indices held (`0..64,128..192`) and the render's total samples per pixel |
 //! | `prisma.crop` | the pixel window `X0,Y0,X1,Y1` (also the EXR data window) |
-//! | `prisma.settings` | the integrator settings as JSON: `max_depth`, `prune_below`, `wavelengths` (per sample), `area_light_samples`, `edge_samples` (camera samples per pass at edges, [`crate::edges`]), `polarized`, `caustics`, `light_paths` (per pass, 0 without caustics), `light_guide` (light paths started by a learned guide, [`crate::integrator::guide`]), `spectral_bands`, `monochromatic_nm` |
+//! | `prisma.settings` | the integrator settings as JSON: `max_depth`, `prune_below`, `wavelengths` (per sample), `area_light_samples`, `edge_samples` (camera samples per pass at edges, [`crate::edges`]; only when above 1), `polarized`, `caustics`, `light_paths` (per pass, 0 without caustics), `light_guide` (light paths started by a learned guide, [`crate::integrator::guide`]), `spectral_bands`, `monochromatic_nm` |
 //! | `prisma.wallSeconds`, `prisma.threads`, `prisma.parts` | render time (summed over merged parts), threads (the most any part used), parts merged into this file |
 //! | `prisma.sumsFormat`, `prisma.sumsBlake3` | present when the file holds per-pixel sums: their format and a BLAKE3 digest of them (corruption check) |
 
@@ -64,15 +64,15 @@ pub struct PartHeader {
 }
 
 /// The integrator settings and film layout a part was rendered with, as canonical JSON (keys
-/// sorted): parts merge only when these are equal.
+/// sorted): parts merge only when these are equal. `edge_samples` is written only when edge
+/// refinement is on, so that parts without it still merge with those of earlier versions.
 pub fn settings_json(settings: &RenderSettings, light_paths_per_pass: u64, layout: &FilmLayout) -> String {
-    serde_json::json!({
+    let mut json = serde_json::json!({
         "max_depth": settings.max_depth,
         // Through its shortest decimal form, so that 0.01 reads 0.01, not 0.009999999776482582.
         "prune_below": settings.prune_below.to_string().parse::<f64>().unwrap_or(f64::NAN),
         "wavelengths": settings.wavelengths,
         "area_light_samples": settings.area_light_samples,
-        "edge_samples": settings.edge_samples,
         "polarized": layout.stokes,
         "caustics": light_paths_per_pass > 0,
         "light_paths": light_paths_per_pass,
@@ -81,8 +81,11 @@ pub fn settings_json(settings: &RenderSettings, light_paths_per_pass: u64, layou
             "count": b.count, "min_nm": b.min_nm, "max_nm": b.max_nm
         })),
         "monochromatic_nm": layout.monochromatic_nm,
-    })
-    .to_string()
+    });
+    if settings.edge_samples > 1 {
+        json["edge_samples"] = settings.edge_samples.into();
+    }
+    json.to_string()
 }
 
 /// The film layout a settings JSON of [`settings_json`] describes, if it parses.

@@ -103,8 +103,8 @@ pub struct RenderDesc {
     /// Start light paths by the guide learned from the render's first light paths (true, the
     /// default) or all uniformly (false).
     pub light_guide: Option<bool>,
-    /// Camera samples per pass of the pixels an edge crosses, after the first pass (1 turns
-    /// edge refinement off).
+    /// Camera samples per pass of the pixels an edge crosses, chosen after the first pass (1,
+    /// the default, turns edge refinement off).
     pub edge_samples: Option<u32>,
 }
 

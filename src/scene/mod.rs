@@ -44,8 +44,8 @@ pub struct RenderSettings {
     /// Start light paths where they are worth most, as the render's first light paths teach
     /// ([`crate::integrator::guide`]); false: uniformly over each light's emission.
     pub light_guide: bool,
-    /// Camera samples per pass of the pixels an edge crosses, after the first pass (1: every
-    /// pixel one sample per pass; [`crate::edges`]).
+    /// Camera samples per pass of the pixels an edge crosses, chosen after the first pass (1:
+    /// every pixel one sample per pass; [`crate::edges`]).
     pub edge_samples: u32,
 }
 
