@@ -4,17 +4,11 @@
 //! bits. Together with the unit tests' choice that never looks at a pixel's own value, this is
 //! what makes the refined image an unbiased estimate.
 
-use std::path::Path;
+mod shipped;
 
 use prisma::render::{render, Job, RenderStats};
 use prisma::scene::Scene;
-
-fn scene(name: &str, width: u32, height: u32) -> Scene {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes").join(name);
-    let mut scene = prisma::scene::load(&path).unwrap();
-    scene.camera = scene.camera.with_resolution(width, height).unwrap();
-    scene
-}
+use shipped::scene;
 
 fn image(scene: &Scene, spp: u32, edge_samples: u32) -> (Vec<glam::Vec3>, RenderStats) {
     let mut job = Job::new(scene.settings.clone());

@@ -2,19 +2,15 @@
 //! the single render's bits, parts that do not belong together are refused, and an interrupted
 //! render resumes into the uninterrupted image. Tiny images: each test takes about a second.
 
-use std::path::{Path, PathBuf};
+mod shipped;
+
+use std::path::PathBuf;
 
 use prisma::film::{SpectralBands, WindowSums};
 use prisma::part::{merge, Part, PartHeader, PixelWindow, SampleSet};
 use prisma::render::{render_sums, Job, Rendered};
 use prisma::scene::Scene;
-
-fn scene(name: &str, width: u32, height: u32) -> Scene {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes").join(name);
-    let mut scene = prisma::scene::load(&path).unwrap();
-    scene.camera = scene.camera.with_resolution(width, height).unwrap();
-    scene
-}
+use shipped::scene;
 
 /// Renders `samples` of `window` and wraps the result as a part (as `prisma render` does).
 fn part(
