@@ -209,6 +209,13 @@ impl Splats {
         (self.pixels[k], self.values[k * layout.values_per_pixel() + layout.luminance_index()])
     }
 
+    /// Scales the values of splats `first..` (in a film of `layout`) by `weight`.
+    pub fn scale_from(&mut self, first: usize, weight: f32, layout: &FilmLayout) {
+        for value in &mut self.values[first * layout.values_per_pixel()..] {
+            *value *= weight;
+        }
+    }
+
     /// Adds the light `beam` (radiance at the camera, per lane) that lands in pixel `pixel`, as
     /// `layout` holds it: the Stokes components beyond [`FilmLayout::components`] must be zero
     /// (S0 alone for the light sums of [`WindowSums::with_light_layout`]).

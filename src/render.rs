@@ -607,6 +607,7 @@ struct LightPasses<'a> {
     uniform: LightTracer<'a>,
     guided: Option<LightTracer<'a>>,
     learning_paths: u64,
+    weights: guide::PathWeights,
     record: guide::Record,
     predicted_gain: Option<f64>,
 }
@@ -620,6 +621,7 @@ impl<'a> LightPasses<'a> {
             uniform: tracer,
             guided: None,
             learning_paths,
+            weights: guide::PathWeights { per_pass, learning_paths },
             record: guide::Record::default(),
             predicted_gain: None,
         }
@@ -662,7 +664,8 @@ impl<'a> LightPasses<'a> {
         if learning.is_empty() {
             return Ok(0);
         }
-        let (rays, record) = light_block(run, &self.uniform, sums, learning, self.guided.is_none())?;
+        let (rays, record) =
+            light_block(run, &self.uniform, self.weights, sums, learning, self.guided.is_none())?;
         self.record.append(record);
         Ok(rays)
     }
@@ -680,7 +683,7 @@ impl<'a> LightPasses<'a> {
             return Ok(0);
         }
         let tracer = self.guided.as_ref().unwrap_or(&self.uniform);
-        Ok(light_block(run, tracer, sums, rest, false)?.0)
+        Ok(light_block(run, tracer, self.weights, sums, rest, false)?.0)
     }
 }
 
@@ -706,6 +709,7 @@ struct LightRun<'r> {
 fn light_block(
     run: &LightRun,
     tracer: &LightTracer,
+    weights: guide::PathWeights,
     sums: Option<&mut WindowSums>,
     paths: std::ops::Range<u64>,
     record: bool,
@@ -721,9 +725,9 @@ fn light_block(
             let first = paths.start.max(block * LIGHT_PATH_BLOCK);
             let end = paths.end.min((block + 1) * LIGHT_PATH_BLOCK);
             let (splats, stats, block_record) = if job.polarized() {
-                trace_block::<Stokes>(tracer, job, &layout, first..end, record)
+                trace_block::<Stokes>(tracer, job, &layout, weights, first..end, record)
             } else {
-                trace_block::<SampledSpectrum>(tracer, job, &layout, first..end, record)
+                trace_block::<SampledSpectrum>(tracer, job, &layout, weights, first..end, record)
             };
             // A panic elsewhere poisons the lock; the sums it guards are still whole.
             let mut shared = shared.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
@@ -771,6 +775,7 @@ fn trace_block<B: Beam>(
     tracer: &LightTracer,
     job: &Job,
     layout: &FilmLayout,
+    weights: guide::PathWeights,
     paths: std::ops::Range<u64>,
     record: bool,
 ) -> (Splats, TraceStats, Option<guide::Record>) {
@@ -781,12 +786,16 @@ fn trace_block<B: Beam>(
     let mut stats = TraceStats::default();
     debug_assert!(!(record && tracer.is_guided()), "a guided path's start is not what it recorded");
     let mut block_record = record.then(guide::Record::default);
-    for mut rng in sequence.paths(paths) {
+    for (path, mut rng) in paths.clone().zip(sequence.paths(paths)) {
         let (splats_before, rays_before) = (splats.len(), stats.rays);
         let u = tracer.trace_path::<B>(&mut rng, layout, &mut splats, &mut scratch, &mut stats);
         if let Some(block_record) = block_record.as_mut() {
             let landings = (splats_before..splats.len()).map(|k| splats.luminance(k, layout));
             block_record.add_path(u, stats.rays - rays_before, landings);
+        }
+        let weight = weights.weight(path);
+        if weight != 1.0 {
+            splats.scale_from(splats_before, weight, layout);
         }
     }
     (splats, stats, block_record)
