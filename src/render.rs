@@ -616,7 +616,8 @@ impl<'a> LightPasses<'a> {
     /// The passes of `tracer` (uniform) for `job`, `per_pass` light paths a pass (0 without
     /// caustics).
     fn new(tracer: LightTracer<'a>, job: &Job, per_pass: u64) -> Self {
-        let learning_paths = if per_pass > 0 && job.settings.light_guide { guide::LEARNING_PATHS } else { 0 };
+        let learning_paths =
+            if per_pass > 0 && job.settings.light_guide { guide::learning_paths(per_pass) } else { 0 };
         Self {
             uniform: tracer,
             guided: None,

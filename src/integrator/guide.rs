@@ -14,8 +14,8 @@
 //! `DEFENSIVE_FRACTION` of the uniform density.
 //!
 //! # Learning
-//! The render's first `LEARNING_PATHS` light paths (16 per cell) start uniformly, as without a
-//! guide, and count in the image like any other; [`Record`] keeps the cell each started in, the
+//! The render's first [`learning_paths`] light paths (4 to 16 per cell) start uniformly, as
+//! without a guide, and count in the image like any other; [`Record`] keeps the cell each started in, the
 //! rays it cost, and the pixel and luminance Y of each of its splats. [`learn`] makes from them a
 //! rough light image m (per path, blurred; in blocks of pixels beyond `LEARNING_IMAGE_SIZE`) and,
 //! per cell c, the mean over its paths of Σ Y² / (m² + `DISPLAY_FLOOR`) over their splats, M_c: the
@@ -43,17 +43,25 @@
 //! on the caustic bench's ball at 2, 4 and 8 spp (6,144 before, six seeds). Fewer still (1,024 or
 //! 2,048, by a lower floor) helped the ball a little more at 2 spp but not `glass_sphere_spot`,
 //! and made the predicted gain noisier (1.42 for `tp6_mirror_glass_caustics` where 4,096 paths
-//! and more predict 1.35, below 1 for the Newton prism): 16 paths per cell stays the floor.
+//! and more predict 1.35, below 1 for the Newton prism): 16 paths per cell stays the number
+//! for passes of `MAX_LEARNING_PATHS` × 16 paths and more (every shipped scene's).
+//!
+//! A smaller pass learns from a sixteenth of itself, at least `MIN_LEARNING_PATHS` (4 per cell):
+//! there the learning paths are a large share of the first pass, and a one-pass preview is
+//! better off with more guided paths and a rougher guide. On the caustic bench's ball (one pass,
+//! 24 seeds, relMSE against Mitsuba's references, with the weights below) learning from 1,024
+//! paths instead of 4,096 left 21 % less error at 8,192 paths, 9 % at 16,384 and 5 % at 24,576,
+//! and the guide was as good: four passes of 24,576 paths, 1.070e-4 against 1.057e-4 (12 seeds).
 //!
 //! The learning paths are the render's paths 0..n, whatever part of the render is running: a
 //! part that does not hold them all traces them for learning only (their splats are dropped),
 //! so every part of a split render learns the same guide and the image stays the same bits
-//! whatever the threads or the split. (So does a render with fewer light paths in all than
-//! `LEARNING_PATHS`: at most 4,096 paths' work, about 2 ms on the caustic bench's ball.)
+//! whatever the threads or the split. (So does a render with fewer light paths in all than its
+//! learning paths: at most 1,024 paths' work there, about 0.5 ms on the caustic bench's ball.)
 //!
 //! # Weighing the learning paths
 //! In the pass that holds both the last learning paths and the first guided ones (the first
-//! pass, when a pass has more than `LEARNING_PATHS` paths), each is an unbiased estimate of the
+//! pass, when a pass has more paths than the learning), each is an unbiased estimate of the
 //! pass, but a learning path's is the noisier: counting all alike wastes guided paths on a
 //! pass whose learning paths are a large share (a quick one-pass preview). [`PathWeights`]
 //! gives the n learning paths of such a pass [`LEARNING_PATH_WORTH`] of a guided path's weight,
@@ -71,9 +79,21 @@
 
 /// Cells of the guide along each of (u₀, u₁).
 pub const GUIDE_BINS: usize = 16;
-/// The light paths the guide learns from, the render's first: 16 per cell (Sobol points fill
-/// every cell equally), whatever the size of a pass (module docs, "Learning").
-pub const LEARNING_PATHS: u64 = 4096;
+/// The most light paths the guide learns from: 16 per cell (Sobol points fill every cell
+/// equally), for passes of 16 times as many paths and more (module docs, "Learning").
+pub const MAX_LEARNING_PATHS: u64 = 4096;
+/// The fewest light paths the guide learns from: 4 per cell, for passes of 16,384 paths and
+/// fewer.
+pub const MIN_LEARNING_PATHS: u64 = 1024;
+
+/// The light paths the guide learns from, the render's first, for passes of `per_pass` light
+/// paths: a sixteenth of a pass in whole multiples of the cells (so that Sobol points fill every
+/// cell equally), from [`MIN_LEARNING_PATHS`] to [`MAX_LEARNING_PATHS`] (module docs,
+/// "Learning").
+pub fn learning_paths(per_pass: u64) -> u64 {
+    let cells = (GUIDE_BINS * GUIDE_BINS) as u64;
+    (per_pass / 16 / cells * cells).clamp(MIN_LEARNING_PATHS, MAX_LEARNING_PATHS)
+}
 /// The share of the uniform density every cell keeps (defensive sampling: a cell the learning
 /// paths under-rated still gets paths, with a bounded weight of at most 1/`DEFENSIVE_FRACTION`).
 pub const DEFENSIVE_FRACTION: f32 = 0.1;
@@ -325,7 +345,7 @@ pub struct Learned {
 pub fn learn(record: &Record, display: (u32, u32)) -> Learned {
     let nothing = Learned { guide: EmissionGuide::uniform(), predicted_gain: None };
     let paths = record.paths();
-    if paths < LEARNING_PATHS || record.landings.is_empty() {
+    if paths < MIN_LEARNING_PATHS || record.landings.is_empty() {
         return nothing;
     }
     // The light image per display pixel, on a grid of `step` × `step` blocks of pixels at most
@@ -451,7 +471,7 @@ mod tests {
     #[test]
     fn a_mixed_pass_weighs_its_paths_to_their_number() {
         for (per_pass, mixed_pass) in [(6144, 0), (24_576, 0), (1000, 4), (4096, usize::MAX), (3, 1365)] {
-            let weights = PathWeights { per_pass, learning_paths: LEARNING_PATHS };
+            let weights = PathWeights { per_pass, learning_paths: MAX_LEARNING_PATHS };
             for pass in 0..6.max(mixed_pass.saturating_add(2)).min(1400) as u64 {
                 let paths = pass * per_pass..(pass + 1) * per_pass;
                 let sum: f64 = paths.clone().map(|p| f64::from(weights.weight(p))).sum();
@@ -476,7 +496,17 @@ mod tests {
         }
         // Without a guide, or without light paths, every path weighs 1.
         assert_eq!(PathWeights { per_pass: 6144, learning_paths: 0 }.weight(17), 1.0);
-        assert_eq!(PathWeights { per_pass: 0, learning_paths: LEARNING_PATHS }.weight(17), 1.0);
+        assert_eq!(PathWeights { per_pass: 0, learning_paths: MAX_LEARNING_PATHS }.weight(17), 1.0);
+    }
+
+    #[test]
+    fn small_passes_learn_from_a_sixteenth() {
+        assert_eq!(learning_paths(1), MIN_LEARNING_PATHS);
+        assert_eq!(learning_paths(16_384), 1024);
+        assert_eq!(learning_paths(24_576), 1536);
+        assert_eq!(learning_paths(30_000), 1792); // 1,875 down to a multiple of 256
+        assert_eq!(learning_paths(65_536), MAX_LEARNING_PATHS);
+        assert_eq!(learning_paths(360_000), MAX_LEARNING_PATHS);
     }
 
     #[test]
@@ -580,7 +610,7 @@ mod tests {
 
     #[test]
     fn too_few_paths_or_no_splat_learn_nothing() {
-        let few = record(LEARNING_PATHS as usize / (GUIDE_BINS * GUIDE_BINS) - 1, |_| 2, |c, _| c as f32);
+        let few = record(MIN_LEARNING_PATHS as usize / (GUIDE_BINS * GUIDE_BINS) - 1, |_| 2, |c, _| c as f32);
         assert_eq!(learn(&few, (1, 1)), Learned { guide: EmissionGuide::uniform(), predicted_gain: None });
         let dark = record(32, |_| 2, |_, _| 0.0);
         assert_eq!(learn(&dark, (1, 1)).predicted_gain, None);
