@@ -26,7 +26,7 @@ fn bits(film: &Film, bands: &SpectralBands) -> Vec<u32> {
 
 /// Same seed, same image, bit for bit, on 1, 2 and 3 threads: the light paths come in fixed
 /// blocks whose splats are summed in block order. Polarised and not, several blocks (10 000
-/// light paths in blocks of 1024), spectral bands too, the second pass guided by the first.
+/// light paths in blocks of 512), spectral bands too, the second pass guided by the first.
 #[test]
 fn caustics_are_bit_identical_for_any_thread_count() {
     let mut scene = scene("tp6_mirror_glass_caustics.toml");

@@ -134,7 +134,7 @@ fn unpolarised_splits_merge_bit_identically() {
 }
 
 /// With caustics, light paths are split by samples (passes), here of 700 paths, so that parts
-/// start and end inside the light tracer's blocks of 1024 paths; a crop traces all the light
+/// start and end inside the light tracer's blocks of 512 paths; a crop traces all the light
 /// paths of its samples and keeps the splats in its window.
 #[test]
 fn caustic_splits_by_samples_merge_bit_identically() {
