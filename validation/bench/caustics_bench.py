@@ -14,9 +14,10 @@ case's references.
 Each renderer renders at doubling effort; the time at a target error is interpolated in log-log
 between the two renders that bracket it. prisma's time is its render time (stats JSON, without
 loading and writing); Mitsuba's is the wall time of mi.render after a warm-up render of the same
-size (JIT compilation excluded). Both are the best of 3 runs of the same render (--repeat N),
-taken in rounds: each round renders all of prisma's efforts, then all of Mitsuba's, so that
-both sides share the load of a shared machine. Each prisma render starts after a pause that lets
+size (JIT compilation excluded). Each effort is rendered 5 times (--repeat N), with a seed per
+run: its time is the best of the runs, its error the mean of theirs. The runs are taken in
+rounds: each round renders all of prisma's efforts, then all of Mitsuba's, so that both sides
+share the load of a shared machine. Each prisma render starts after a pause that lets
 Dr.Jit's worker threads go idle (SETTLE_SECONDS, below).
 CPU time is reported beside wall time (all threads; prisma's whole process, so with loading and
 writing; Mitsuba's process during mi.render): on a machine shared with other work it varies less
@@ -55,8 +56,9 @@ import translate  # noqa: E402
 
 SCENE = ROOT / "validation" / "scenes" / "caustic_sphere.toml"
 WAVELENGTH = 550.0
-# Each render is timed this many times and the best kept (--repeat N): the machine is shared.
-REPEATS = int(sys.argv[sys.argv.index("--repeat") + 1]) if "--repeat" in sys.argv else 3
+# Each effort is rendered this many times, with a seed each, its best time and mean error kept
+# (--repeat N): the machine is shared, and one seed's error is noisy.
+REPEATS = int(sys.argv[sys.argv.index("--repeat") + 1]) if "--repeat" in sys.argv else 5
 # Pause before each prisma render. After any Dr.Jit work in this process (a Mitsuba render, or
 # mi.Bitmap reading the previous render's EXR) one of its worker threads keeps a core busy for
 # 0.1-0.2 s (measured: the system 52 %, then 35 % busy in the next two 100 ms windows); a
@@ -161,9 +163,9 @@ def race(case, prisma, out, sampler):
     mode = ["--wavelength", str(case.wavelength)] if case.wavelength is not None else []
     results["prisma_light_paths_per_pass"] = LIGHT_PATHS or "the scene's"
 
-    def render_prisma(effort):
-        """One prisma render of `effort` = (passes, light paths per pass or None for the scene's):
-        (render seconds, CPU seconds of the process, relMSE)."""
+    def render_prisma(effort, round_):
+        """One prisma render of `effort` = (passes, light paths per pass or None for the scene's),
+        with round `round_`'s seed: (render seconds, CPU seconds of the process, relMSE)."""
         spp, paths = effort
         exr, stats = out / f"{case.name}_prisma_{spp}_{paths}.exr", out / f"{case.name}_prisma_{spp}_{paths}.json"
         time.sleep(SETTLE_SECONDS)
@@ -171,7 +173,7 @@ def race(case, prisma, out, sampler):
         light_paths = ["--light-paths", str(paths)] if paths else []
         # Unpolarised, as Mitsuba's plain variants and the references.
         subprocess.run([prisma, "render", str(case.scene), *mode, "--spp", str(spp), "--unpolarized", "--seed",
-                        "17", "-o", str(exr), "--quiet", "--stats", str(stats), *PRISMA_FLAGS, *light_paths], check=True)
+                        str(17 + round_), "-o", str(exr), "--quiet", "--stats", str(stats), *PRISMA_FLAGS, *light_paths], check=True)
         cpu = children_cpu() - before
         seconds = json.loads(stats.read_text())["render_seconds"]
         return seconds, cpu, rel_mse(case.image(exr), reference, mask) - noise
@@ -187,23 +189,27 @@ def race(case, prisma, out, sampler):
     results["mitsuba_variant"] = case.variant
     mitsuba_scenes = {}
 
-    def render_mitsuba(spp):
-        """One Mitsuba render (the scene loaded and compiled by a warm-up render the first time):
-        (wall seconds of mi.render, CPU seconds of this process meanwhile, relMSE)."""
+    def render_mitsuba(spp, round_):
+        """One Mitsuba render with round `round_`'s seed (the scene loaded and compiled by a
+        warm-up render the first time): (wall seconds of mi.render, CPU seconds of this process
+        meanwhile, relMSE). The seeds (2, 3, ...) are none of the references' passes' (1000-1063,
+        2000-2063)."""
         if spp not in mitsuba_scenes:
             mitsuba_scenes[spp] = mi.load_dict(translator.scene_dict(caustics.PTRACER, spp, sampler=sampler))
             mi.render(mitsuba_scenes[spp], spp=spp, seed=1)  # warm-up: compile
         start, start_cpu = time.perf_counter(), time.process_time()
-        image = np.array(mi.render(mitsuba_scenes[spp], spp=spp, seed=2), dtype=np.float64)
+        image = np.array(mi.render(mitsuba_scenes[spp], spp=spp, seed=2 + round_), dtype=np.float64)
         seconds, cpu = time.perf_counter() - start, time.process_time() - start_cpu
         image = (image[..., 0] if image.ndim == 3 else image) if case.wavelength is not None else image[..., :3]
         return seconds, cpu, rel_mse(fix * image, reference, mask) - noise
 
     # The first round finds each side's renders (doubling effort until relMSE < 5e-5; Mitsuba from
-    # 4 spp, so that its time at relMSE 1e-3 is bracketed too) and their errors, which the same
-    # seeds repeat exactly. Every round times all of prisma's renders, then all of Mitsuba's, so
-    # that both sides meet the same load of this shared machine within seconds of each other;
-    # each render keeps its best time over the rounds.
+    # 4 spp, so that its time at relMSE 1e-3 is bracketed too). Every round times all of prisma's
+    # renders, then all of Mitsuba's, so that both sides meet the same load of this shared machine
+    # within seconds of each other; each round renders with seeds of its own, each effort keeps
+    # its best time over the rounds and the mean of their errors: the error of one seed varies
+    # by 10-20 % at a few passes (prisma's one-pass renders of the ball, 24 seeds), enough to
+    # move a time interpolated between two efforts as much as a real change would.
     # prisma's efforts: one pass with a quarter and half of its light paths (a pass has at least
     # one camera sample per pixel, so below one pass only the light paths shrink), then doubling
     # passes.
@@ -217,14 +223,16 @@ def race(case, prisma, out, sampler):
             for effort in efforts:
                 if round_ > 0 and effort not in best[name]:
                     break
-                seconds, cpu, error = render(effort)
-                previous = best[name].get(effort, (math.inf, math.inf, error))
-                best[name][effort] = (min(previous[0], seconds), min(previous[1], cpu), error)
+                seconds, cpu, error = render(effort, round_)
+                previous = best[name].get(effort, (math.inf, math.inf, []))
+                best[name][effort] = (min(previous[0], seconds), min(previous[1], cpu), previous[2] + [error])
                 if round_ == 0:
                     print(f"{case.name}: {name} {describe(effort)}: relMSE {error:.3e}", flush=True)
                     if error < 5e-5:
                         break
     for name in sides:
+        best[name] = {effort: (seconds, cpu, float(np.mean(errors)))
+                      for effort, (seconds, cpu, errors) in best[name].items()}
         for effort, (seconds, cpu, error) in best[name].items():
             print(f"{case.name}: {name} {describe(effort)}: {seconds:.3f} s ({cpu:.3f} CPU s), relMSE {error:.3e}")
         results[name] = [(seconds, error) for seconds, _, error in best[name].values()]
