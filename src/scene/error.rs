@@ -53,7 +53,7 @@ pub fn line_column(text: &str, offset: usize) -> (usize, usize) {
 const MAX_WORD_CHARS: usize = 80;
 
 /// Collapses a multi-line message into one line and shortens every word longer than
-/// [`MAX_WORD_CHARS`] to its start, an ellipsis and its length.
+/// `MAX_WORD_CHARS` (80) characters to its start, an ellipsis and its length.
 pub fn one_line(message: &str) -> String {
     message.split_whitespace().map(shorten).collect::<Vec<_>>().join(" ")
 }
