@@ -254,15 +254,15 @@ fn one_pass_spreads_the_balls_reflection_over_the_floor() {
 
 /// The pass that holds both the guide's learning paths and guided ones weighs them unequally
 /// (`integrator::guide::PathWeights`): the pass must stay an unbiased estimate, checked against
-/// Mitsuba's particle tracer. One pass of 6,144 light paths (1,024 learning, at 0.545 each, and
-/// 5,120 guided, at 1.09) of the caustic bench's ball at 550 nm, 48 seeds: their mean light on
+/// Mitsuba's particle tracer. One pass of 6,144 light paths (512 learning, at 0.522 each, and
+/// 5,632 guided, at 1.043) of the caustic bench's ball at 550 nm, 48 seeds: their mean light on
 /// the floor outside the spot's direct light (pixels whose Whitted image and neighbours' are
 /// black: the caustic, the ball's shadow and the dim floor its reflection lights, where the
 /// light tracer makes all the light) against the committed 50 M-path references, within four
-/// standard errors (the seeds' spread and the two references' difference; measured 146.68 ±
-/// 0.07 against 146.85 ± 0.01, and 146.84 and 146.86 with two other sets of 48 seeds). Weights
-/// that do not add up to the pass's paths (the learning paths halved alone) leave it 8 % darker
-/// (134.5) and fail.
+/// standard errors (the seeds' spread and the two references' difference; measured 146.71 ±
+/// 0.06 against 146.85 ± 0.01, and 146.80, 146.85 and 146.86 with three other sets of 48
+/// seeds). Weights that do not add up to the pass's paths (the learning paths halved alone)
+/// leave it 4 % darker (140.6) and fail.
 #[test]
 fn a_pass_of_learning_and_guided_paths_is_unbiased() {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));

@@ -151,8 +151,8 @@ fn caustic_splits_by_samples_merge_bit_identically() {
     );
     let (_, whole) = part(&scene, &job, "0..7", None, 2);
     assert!(whole.sums.light().iter().any(|s| !s.is_zero()), "the light tracer splatted");
-    // The guide learns from the first 1,024 light paths (a pass and a half): parts without them
-    // (3..7, 5..7) trace those paths to learn it, and must learn the same guide.
+    // The guide learns from the first 512 light paths (most of the first pass): parts without
+    // them (3..7, 5..7) trace those paths to learn it, and must learn the same guide.
     let guided = render_sums(&scene, &job).unwrap();
     let gain = guided.stats.light_guide_gain.expect("a guide was learned");
     assert!(gain >= prisma::integrator::guide::MIN_PREDICTED_GAIN, "the guide is used: {gain}");

@@ -14,7 +14,7 @@
 //! `DEFENSIVE_FRACTION` of the uniform density.
 //!
 //! # Learning
-//! The render's first [`learning_paths`] light paths (4 to 16 per cell) start uniformly, as
+//! The render's first [`learning_paths`] light paths (2 to 16 per cell) start uniformly, as
 //! without a guide, and count in the image like any other; [`Record`] keeps the cell each started in, the
 //! rays it cost, and the pixel and luminance Y of each of its splats. [`learn`] makes from them a
 //! rough light image m (per path, blurred; in blocks of pixels beyond `LEARNING_IMAGE_SIZE`) and,
@@ -44,20 +44,27 @@
 //! 2,048, by a lower floor) helped the ball a little more at 2 spp but not `glass_sphere_spot`,
 //! and made the predicted gain noisier (1.42 for `tp6_mirror_glass_caustics` where 4,096 paths
 //! and more predict 1.35, below 1 for the Newton prism): 16 paths per cell stays the number
-//! for passes of `MAX_LEARNING_PATHS` × 16 paths and more (every shipped scene's).
+//! for passes of `MAX_LEARNING_PATHS` × 32 paths and more (every shipped scene's: there the
+//! learning paths are 1 % of a pass or less, and only the guide's quality counts).
 //!
-//! A smaller pass learns from a sixteenth of itself, at least `MIN_LEARNING_PATHS` (4 per cell):
-//! there the learning paths are a large share of the first pass, and a one-pass preview is
-//! better off with more guided paths and a rougher guide. On the caustic bench's ball (one pass,
-//! 24 seeds, relMSE against Mitsuba's references, with the weights below) learning from 1,024
-//! paths instead of 4,096 left 21 % less error at 8,192 paths, 9 % at 16,384 and 5 % at 24,576,
-//! and the guide was as good: four passes of 24,576 paths, 1.070e-4 against 1.057e-4 (12 seeds).
+//! A smaller pass learns from a thirty-second of itself, at least `MIN_LEARNING_PATHS` (2 per
+//! cell): there the learning paths are a large share of the first pass, and a one-pass preview
+//! is better off with more guided paths and a rougher guide. On the caustic bench's ball (one
+//! pass, 24 seeds, relMSE against Mitsuba's references, with the weights below) learning from
+//! 1,024 paths instead of 4,096 left 21 % less error at 8,192 paths, 9 % at 16,384 and 5 % at
+//! 24,576, and 512 paths 6 %, 6 % and 3 % less again at 12,288, 16,384 and 24,576; the guide was
+//! as good (four passes of 24,576 paths: 1.057e-4 from 4,096 paths, 1.070e-4 from 1,024,
+//! 1.076e-4 from 768, 12 seeds). Small renders of the other scenes did not mind either
+//! (`glass_sphere_spot` at 200×113, 22,600 paths a pass, learning from 512 paths against
+//! 4,096: relMSE 3.21e-3 against 3.33e-3 at 1 spp, 2.48e-4 against 2.57e-4 at 4 spp, 10 seeds;
+//! `tp6_mirror_glass_caustics` at 150×100, 60,000 paths a pass, 1,792 against 4,096: the same
+//! error at 1 and 4 spp, predicted gains 1.40 and 1.39).
 //!
 //! The learning paths are the render's paths 0..n, whatever part of the render is running: a
 //! part that does not hold them all traces them for learning only (their splats are dropped),
 //! so every part of a split render learns the same guide and the image stays the same bits
 //! whatever the threads or the split. (So does a render with fewer light paths in all than its
-//! learning paths: at most 1,024 paths' work there, about 0.5 ms on the caustic bench's ball.)
+//! learning paths: at most 512 paths' work there, about 0.25 ms on the caustic bench's ball.)
 //!
 //! # Weighing the learning paths
 //! In the pass that holds both the last learning paths and the first guided ones (the first
@@ -80,19 +87,19 @@
 /// Cells of the guide along each of (u₀, u₁).
 pub const GUIDE_BINS: usize = 16;
 /// The most light paths the guide learns from: 16 per cell (Sobol points fill every cell
-/// equally), for passes of 16 times as many paths and more (module docs, "Learning").
+/// equally), for passes of 32 times as many paths and more (module docs, "Learning").
 pub const MAX_LEARNING_PATHS: u64 = 4096;
-/// The fewest light paths the guide learns from: 4 per cell, for passes of 16,384 paths and
+/// The fewest light paths the guide learns from: 2 per cell, for passes of 24,575 paths and
 /// fewer.
-pub const MIN_LEARNING_PATHS: u64 = 1024;
+pub const MIN_LEARNING_PATHS: u64 = 512;
 
 /// The light paths the guide learns from, the render's first, for passes of `per_pass` light
-/// paths: a sixteenth of a pass in whole multiples of the cells (so that Sobol points fill every
+/// paths: a thirty-second of a pass in whole multiples of the cells (so that Sobol points fill every
 /// cell equally), from [`MIN_LEARNING_PATHS`] to [`MAX_LEARNING_PATHS`] (module docs,
 /// "Learning").
 pub fn learning_paths(per_pass: u64) -> u64 {
     let cells = (GUIDE_BINS * GUIDE_BINS) as u64;
-    (per_pass / 16 / cells * cells).clamp(MIN_LEARNING_PATHS, MAX_LEARNING_PATHS)
+    (per_pass / 32 / cells * cells).clamp(MIN_LEARNING_PATHS, MAX_LEARNING_PATHS)
 }
 /// The share of the uniform density every cell keeps (defensive sampling: a cell the learning
 /// paths under-rated still gets paths, with a bounded weight of at most 1/`DEFENSIVE_FRACTION`).
@@ -500,12 +507,12 @@ mod tests {
     }
 
     #[test]
-    fn small_passes_learn_from_a_sixteenth() {
+    fn small_passes_learn_from_a_thirty_second() {
         assert_eq!(learning_paths(1), MIN_LEARNING_PATHS);
-        assert_eq!(learning_paths(16_384), 1024);
-        assert_eq!(learning_paths(24_576), 1536);
-        assert_eq!(learning_paths(30_000), 1792); // 1,875 down to a multiple of 256
-        assert_eq!(learning_paths(65_536), MAX_LEARNING_PATHS);
+        assert_eq!(learning_paths(16_384), 512);
+        assert_eq!(learning_paths(24_576), 768);
+        assert_eq!(learning_paths(60_000), 1792); // 1,875 down to a multiple of 256
+        assert_eq!(learning_paths(131_072), MAX_LEARNING_PATHS);
         assert_eq!(learning_paths(360_000), MAX_LEARNING_PATHS);
     }
 
