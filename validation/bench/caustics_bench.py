@@ -210,11 +210,12 @@ def race(case, prisma, out, sampler):
     # its best time over the rounds and the mean of their errors: the error of one seed varies
     # by 10-20 % at a few passes (prisma's one-pass renders of the ball, 24 seeds), enough to
     # move a time interpolated between two efforts as much as a real change would.
-    # prisma's efforts: one pass with a quarter and half of its light paths (a pass has at least
+    # prisma's efforts: one pass with an eighth, a quarter and half of its light paths (the eighth
+    # brackets 1e-3 in the spectral race, whose quarter is below it; a pass has at least
     # one camera sample per pixel, so below one pass only the light paths shrink), then doubling
     # passes.
     per_pass = LIGHT_PATHS or None
-    below_one_pass = [(1, LIGHT_PATHS // 4), (1, LIGHT_PATHS // 2)] if LIGHT_PATHS >= 4 else []
+    below_one_pass = [(1, LIGHT_PATHS // d) for d in (8, 4, 2)] if LIGHT_PATHS >= 8 else []
     sides = {"prisma": (render_prisma, below_one_pass + [(spp, per_pass) for spp in (1, 2, 4, 8, 16, 32, 64, 128, 256)]),
              "mitsuba": (render_mitsuba, [4, 8, 16, 32, 64, 128, 256, 512, 1024, 2048, 4096])}
     best = {name: {} for name in sides}
