@@ -53,9 +53,9 @@ const THREAD_STACK_BYTES: usize = 64 << 20;
 /// of the caustic bench made 3 blocks on 2 threads, and its 1- and 2-spp renders took 1.27× the
 /// time they take with 1024 (`validation/bench/caustics_bench.py` scene, best of 7); with 1024,
 /// the 1,024 paths a pass of 16,384 then learned the guide from ([`guide::learning_paths`]) were
-/// one block on one thread, and a one-pass render of 16,384 paths took 6.25 / 7.33 / 9.7 ms (least,
-/// first quartile, median of 30 alternating runs) against 5.5 / 6.43 / 7.0 with 512. The image
-/// is the same bits whatever the block (exact sums).
+/// one block on one thread, and a one-pass render of 16,384 paths took 6.25 / 7.33 / 9.7 ms
+/// (least, first quartile, median of 30 alternating runs) against 5.5 / 6.43 / 7.0 with 512. The
+/// image is the same bits whatever the block (exact sums).
 pub const LIGHT_PATH_BLOCK: u64 = 512;
 /// Mixed into the seed of the light paths' sample sequences, so that they are independent of
 /// the camera samples'.
