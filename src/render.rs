@@ -626,7 +626,7 @@ impl<'a> LightPasses<'a> {
             uniform: tracer,
             guided: None,
             learning_paths,
-            weights: guide::PathWeights { per_pass, learning_paths },
+            weights: guide::PathWeights::new(per_pass, learning_paths),
             record: guide::Record::default(),
             predicted_gain: None,
         }

@@ -127,29 +127,50 @@ pub const LEARNING_PATH_WORTH: f64 = 0.5;
 
 /// The weight of each light path's splats: 1, except in the one pass that holds both learning
 /// and guided paths, where the learning paths count [`LEARNING_PATH_WORTH`] of a guided one and
-/// the pass's weights still add up to its paths (so it stays an unbiased pass).
+/// the pass's weights still add up to its paths (so it stays an unbiased pass). Made once per
+/// render, so that a path's weight is two comparisons.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PathWeights {
-    /// Light paths per pass.
-    pub per_pass: u64,
-    /// The render's first paths, which start uniformly (0 without a guide).
-    pub learning_paths: u64,
+    /// The paths of the mixed pass, `mixed_start..mixed_end` (empty when there is none).
+    mixed_start: u64,
+    mixed_end: u64,
+    /// The end of the learning paths (they are the render's first).
+    learning_end: u64,
+    /// The weights of the mixed pass's learning and guided paths.
+    learning: f32,
+    guided: f32,
 }
 
 impl PathWeights {
+    /// The weights of a render of `per_pass` light paths a pass whose first `learning_paths`
+    /// start uniformly (0 without a guide).
+    pub fn new(per_pass: u64, learning_paths: u64) -> Self {
+        let in_mixed = learning_paths.checked_rem(per_pass).unwrap_or(0);
+        let mixed_start = learning_paths - in_mixed;
+        let guided = if in_mixed == 0 {
+            1.0 // no mixed pass
+        } else {
+            per_pass as f64 / (in_mixed as f64 * LEARNING_PATH_WORTH + (per_pass - in_mixed) as f64)
+        };
+        Self {
+            mixed_start,
+            mixed_end: if in_mixed == 0 { mixed_start } else { mixed_start + per_pass },
+            learning_end: learning_paths,
+            learning: (guided * LEARNING_PATH_WORTH) as f32,
+            guided: guided as f32,
+        }
+    }
+
     /// The weight of light path `path` (numbered over the whole render).
+    #[inline]
     pub fn weight(&self, path: u64) -> f32 {
-        if self.per_pass == 0 {
-            return 1.0;
+        if !(self.mixed_start..self.mixed_end).contains(&path) {
+            1.0
+        } else if path < self.learning_end {
+            self.learning
+        } else {
+            self.guided
         }
-        let pass_start = path - path % self.per_pass;
-        let learning = self.learning_paths.saturating_sub(pass_start).min(self.per_pass);
-        if learning == 0 || learning == self.per_pass {
-            return 1.0;
-        }
-        let guided = self.per_pass as f64
-            / (learning as f64 * LEARNING_PATH_WORTH + (self.per_pass - learning) as f64);
-        (if path < self.learning_paths { guided * LEARNING_PATH_WORTH } else { guided }) as f32
     }
 }
 
@@ -478,7 +499,7 @@ mod tests {
     #[test]
     fn a_mixed_pass_weighs_its_paths_to_their_number() {
         for (per_pass, mixed_pass) in [(6144, 0), (24_576, 0), (1000, 4), (4096, usize::MAX), (3, 1365)] {
-            let weights = PathWeights { per_pass, learning_paths: MAX_LEARNING_PATHS };
+            let weights = PathWeights::new(per_pass, MAX_LEARNING_PATHS);
             for pass in 0..6.max(mixed_pass.saturating_add(2)).min(1400) as u64 {
                 let paths = pass * per_pass..(pass + 1) * per_pass;
                 let sum: f64 = paths.clone().map(|p| f64::from(weights.weight(p))).sum();
@@ -499,8 +520,8 @@ mod tests {
             }
         }
         // Without a guide, or without light paths, every path weighs 1.
-        assert_eq!(PathWeights { per_pass: 6144, learning_paths: 0 }.weight(17), 1.0);
-        assert_eq!(PathWeights { per_pass: 0, learning_paths: MAX_LEARNING_PATHS }.weight(17), 1.0);
+        assert_eq!(PathWeights::new(6144, 0).weight(17), 1.0);
+        assert_eq!(PathWeights::new(0, MAX_LEARNING_PATHS).weight(17), 1.0);
     }
 
     #[test]
