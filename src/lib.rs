@@ -18,6 +18,7 @@ pub mod optics;
 pub mod output;
 pub mod part;
 pub mod polarization;
+pub mod printable;
 pub mod render;
 pub mod sampler;
 pub mod scene;

@@ -1,6 +1,7 @@
 //! `prisma info`: what an EXR prisma wrote says about itself (the `prisma.*` header of
 //! [`prisma::part::header`]), its windows, and a digest of its image channels, for comparing two
-//! renders bit for bit whatever their headers say (wall time, threads).
+//! renders bit for bit whatever their headers say (wall time, threads). Header text is a file's:
+//! it is printed escaped ([`prisma::printable::quote`]), and the header's digest is checked.
 
 use std::path::PathBuf;
 
@@ -10,7 +11,10 @@ use sha2::{Digest, Sha256};
 
 use super::{say, CliError};
 use prisma::output::exr::read_exr;
-use prisma::part::file::read_summary;
+use prisma::part::file::{read_summary, ExrSummary, PartError, StoredPart, HEADER_ALTERED};
+use prisma::part::header::HEADER_DIGEST;
+use prisma::part::PartHeader;
+use prisma::printable::quote;
 use prisma::scene::digest::hex;
 
 /// Arguments of `prisma info`.
@@ -32,8 +36,18 @@ pub fn run(args: &InfoArgs) -> Result<(), CliError> {
             args.file.display()
         )));
     }
+    // The header is checked as merge and --resume check it: a part whole (header, digests,
+    // sums), another render's header field by field and against its digest where it has one.
+    let has_sums = summary.attribute("prisma.sumsFormat").is_some();
+    let input = |e: PartError| CliError::Input(e.into());
+    if has_sums {
+        StoredPart::read(&args.file).map_err(input)?;
+    } else {
+        check_render_header(&summary)
+            .map_err(|problem| input(PartError { path: args.file.display().to_string(), problem }))?;
+    }
     // The header's own order (that of `PartHeader::attributes`), then the rest by name.
-    const ORDER: [&str; 15] = [
+    const ORDER: [&str; 16] = [
         "prisma.version",
         "prisma.commit",
         "prisma.scene",
@@ -49,13 +63,22 @@ pub fn run(args: &InfoArgs) -> Result<(), CliError> {
         "prisma.parts",
         "prisma.sumsFormat",
         "prisma.sumsBlake3",
+        HEADER_DIGEST,
     ];
     prisma
         .sort_by_key(|(name, _)| (ORDER.iter().position(|o| o == name).unwrap_or(ORDER.len()), name.clone()));
-    say!("file: {}", args.file.display());
+    say!("file: {}", quote(&args.file.display().to_string()));
     for (name, value) in prisma {
-        say!("{}: {value}", name.trim_start_matches("prisma."));
+        say!("{}: {}", quote(name.trim_start_matches("prisma.")), quote(value));
     }
+    say!(
+        "header: {}",
+        match (summary.attribute(HEADER_DIGEST), has_sums) {
+            (None, _) => "no digest (written by an earlier prisma)",
+            (Some(_), true) => "matches its digest, and the sums theirs",
+            (Some(_), false) => "matches its digest",
+        }
+    );
     let image_channels: Vec<&String> = summary.channels.iter().filter(|c| !c.starts_with("sums.")).collect();
     let sum_channels = summary.channels.len() - image_channels.len();
     say!("displayWindow: 0,0,{},{}", summary.display.0, summary.display.1);
@@ -63,7 +86,7 @@ pub fn run(args: &InfoArgs) -> Result<(), CliError> {
     say!(
         "channels: {} image ({}), {} of sums",
         image_channels.len(),
-        image_channels.iter().map(|c| c.as_str()).collect::<Vec<_>>().join(" "),
+        quote(&image_channels.iter().map(|c| c.as_str()).collect::<Vec<_>>().join(" ")),
         sum_channels
     );
     // A digest of the image channels' values: two renders with the same pixels have the same.
@@ -79,4 +102,13 @@ pub fn run(args: &InfoArgs) -> Result<(), CliError> {
     }
     say!("imageSha256: {}", hex(&hasher.finalize()));
     Ok(())
+}
+
+/// Checks the `prisma.*` header of a render without sums: its fields, and its digest where it
+/// has one (renders of earlier versions do not).
+fn check_render_header(summary: &ExrSummary) -> Result<(), String> {
+    if summary.header_intact() == Some(false) {
+        return Err(HEADER_ALTERED.into());
+    }
+    PartHeader::from_attributes(|name| summary.attribute(name), summary.display).map(|_| ())
 }

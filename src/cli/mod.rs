@@ -68,7 +68,8 @@ impl CliError {
     /// The whole error chain on one line.
     pub fn message(&self) -> String {
         let (CliError::Input(e) | CliError::Failed(e) | CliError::Interrupted(e)) = self;
-        format!("{e:#}")
+        // One line, and no control sequence from a file's text reaches the terminal.
+        prisma::printable::one_line(&format!("{e:#}"))
     }
 }
 

@@ -35,8 +35,8 @@ use super::file::{write_file, Sink};
 use super::OutputError;
 use crate::film::{Film, WindowSums};
 use crate::part::file::{sum_channels, sums_digest};
-use crate::part::header::SUMS_FORMAT;
-use crate::part::PartHeader;
+use crate::part::header::{header_digest, HEADER_DIGEST, SUMS_FORMAT};
+use crate::part::{PartHeader, PixelWindow};
 
 /// The Fichet et al. channel name of Stokes component `k` at `lambda_nm`: `S0.560,000000nm`.
 pub fn spectral_channel_name(k: usize, lambda_nm: f32) -> String {
@@ -126,10 +126,15 @@ pub fn encode_exr_part(
             channels.push(AnyChannel::new(name.as_str(), FlatSamples::U32(words)));
         }
     }
+    let (x0, y0) = film.origin();
+    if header.is_some() {
+        let window = PixelWindow { x0, y0, x1: x0 + film.width(), y1: y0 + film.height() };
+        let digest = header_digest(texts.iter().map(|(n, t)| (*n, t.as_str())), film.display(), window);
+        texts.push((HEADER_DIGEST, digest));
+    }
     for (name, text) in texts {
         attributes.push((name, AttributeValue::Text(Text::from(text.as_str()))));
     }
-    let (x0, y0) = film.origin();
     let layer = Layer::new(
         (film.width() as usize, film.height() as usize),
         LayerAttributes { layer_position: Vec2(x0 as i32, y0 as i32), ..LayerAttributes::default() },

@@ -9,17 +9,29 @@
 //! uncompressed: compressing the sums cost more time than splitting a render may add. The
 //! header ([`PartHeader`]) says which samples and window they hold, and `prisma.sumsBlake3` (of
 //! the stored channels, names and words: [`sums_digest`])
-//! guards them: a part whose sums do not match it is refused as corrupt.
+//! guards them: a part whose sums do not match it is refused as corrupt. The header itself is
+//! guarded by `prisma.headerBlake3` ([`super::header::header_digest`]), which covers
+//! `prisma.sumsBlake3` too.
+//!
+//! **A part is input.** Before any pixel is read the file must be a regular file, its header
+//! must check ([`PartHeader::from_attributes`]) and match its digest, and it must be
+//! uncompressed scan lines whose pixels fit in the file's length ([`ExrSummary::check_size`]),
+//! so that reading a part costs memory in proportion to its bytes, whatever its header claims.
 
+use std::fs::File;
+use std::io::{BufReader, Seek, SeekFrom};
 use std::path::Path;
 
+use ::exr::compression::Compression;
 use ::exr::meta::attribute::AttributeValue;
+use ::exr::meta::BlockDescription;
 use ::exr::prelude::{read, FlatSamples, ReadChannels, ReadLayers};
 
-use super::header::SUMS_FORMAT;
+use super::header::{header_digest, HEADER_DIGEST, SUMS_FORMAT};
 use super::{PartHeader, PixelWindow};
 use crate::film::WindowSums;
 use crate::fixed::FixedSum;
+use crate::printable::quote;
 use crate::scene::digest::hex;
 
 /// A part read back: what it is, and its sums.
@@ -154,13 +166,92 @@ pub struct ExrSummary {
     pub window: PixelWindow,
     /// Channel names.
     pub channels: Vec<String>,
+    /// Bytes the pixels of every channel take decoded.
+    pub decoded_bytes: u64,
+    /// The file's length in bytes.
+    pub file_bytes: u64,
+    /// Stored uncompressed, in scan lines (as parts are).
+    pub uncompressed_scanlines: bool,
 }
 
-/// Reads the header of the EXR at `path` (see [`ExrSummary`]).
+/// The largest ratio of decoded to stored bytes an EXR's compression reaches (deflate's limit
+/// is about 1032 to 1; the others' are lower), for [`ExrSummary::check_size`].
+pub const MAX_COMPRESSION_RATIO: u64 = 1100;
+
+/// What a header that does not match its digest is told.
+pub const HEADER_ALTERED: &str =
+    "corrupt: the header does not match its BLAKE3 digest (prisma.headerBlake3): \
+     a prisma.* attribute, the display window or the data window was altered";
+
+impl ExrSummary {
+    /// Whether the `prisma.*` header matches its digest ([`header_digest`]); `None` when it has
+    /// none (not a prisma render, or one of an earlier version).
+    pub fn header_intact(&self) -> Option<bool> {
+        let stored = self.attribute(HEADER_DIGEST)?;
+        let attributes = self.attributes.iter().map(|(name, text)| (name.as_str(), text.as_str()));
+        Some(stored == header_digest(attributes, self.display, self.window))
+    }
+
+    /// The text of attribute `name`.
+    pub fn attribute(&self, name: &str) -> Option<String> {
+        self.attributes.iter().find(|(n, _)| n == name).map(|(_, value)| value.clone())
+    }
+
+    /// Refuses an image whose pixels cannot be in the file: uncompressed, they must fit in its
+    /// length; compressed, in [`MAX_COMPRESSION_RATIO`] times it. Decoding it then costs memory
+    /// in proportion to the file, not to what its header claims (a 2 KB file claiming
+    /// 20000×20000 pixels asked for 115 GB).
+    pub fn check_size(&self) -> Result<(), String> {
+        let (stored, bound) = if self.uncompressed_scanlines {
+            ("uncompressed", self.file_bytes)
+        } else {
+            ("compressed", self.file_bytes.saturating_mul(MAX_COMPRESSION_RATIO))
+        };
+        if self.decoded_bytes > bound {
+            return Err(format!(
+                "truncated or corrupt: its {} pixels of {} channels take {} bytes, more than {} {stored} bytes hold",
+                self.window.pixels(),
+                self.channels.len(),
+                self.decoded_bytes,
+                self.file_bytes
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Opens `path` for reading if it is a regular file (a FIFO would block, a directory or device
+/// is no image), with its length.
+fn open_regular(path: &Path) -> Result<(File, u64), String> {
+    let not_found = |e: std::io::Error| match e.kind() {
+        std::io::ErrorKind::NotFound => "no such file".to_string(),
+        _ => format!("cannot be read ({e})"),
+    };
+    // Checked before opening: opening a FIFO for reading waits for a writer.
+    if !std::fs::metadata(path).map_err(not_found)?.is_file() {
+        return Err("is not a regular file (a directory, FIFO or device is not an image)".into());
+    }
+    let file = File::open(path).map_err(not_found)?;
+    let meta = file.metadata().map_err(not_found)?;
+    if !meta.is_file() {
+        return Err("is not a regular file".into());
+    }
+    Ok((file, meta.len()))
+}
+
+/// Reads the header of the EXR at `path` (see [`ExrSummary`]), checked with
+/// [`ExrSummary::check_size`].
 pub fn read_summary(path: &Path) -> Result<ExrSummary, PartError> {
     let error = |problem: String| PartError { path: path.display().to_string(), problem };
-    let meta = ::exr::meta::MetaData::read_from_file(path, true).map_err(|e| error(exr_problem(e)))?;
-    let header = meta.headers.first().ok_or_else(|| error("no image in the file".into()))?;
+    let (file, file_bytes) = open_regular(path).map_err(error)?;
+    summary_of(&file, file_bytes).map_err(error)
+}
+
+/// The summary of the EXR open as `file`, of `file_bytes` bytes, read from its start.
+fn summary_of(mut file: &File, file_bytes: u64) -> Result<ExrSummary, String> {
+    file.seek(SeekFrom::Start(0)).map_err(|e| format!("cannot be read ({e})"))?;
+    let meta = ::exr::meta::MetaData::read_from_buffered(BufReader::new(file), true).map_err(exr_problem)?;
+    let header = meta.headers.first().ok_or_else(|| "no image in the file".to_string())?;
     let attributes = header
         .shared_attributes
         .other
@@ -169,10 +260,24 @@ pub fn read_summary(path: &Path) -> Result<ExrSummary, PartError> {
         .map(|(name, value)| (name.to_string(), attribute_text(value)))
         .collect();
     let display_window = header.shared_attributes.display_window;
-    let (display, window) =
-        windows(display_window, header.own_attributes.layer_position, header.layer_size).map_err(error)?;
+    let (display, window) = windows(display_window, header.own_attributes.layer_position, header.layer_size)?;
     let channels = header.channels.list.iter().map(|c| c.name.to_string()).collect();
-    Ok(ExrSummary { attributes, display, window, channels })
+    let decoded_bytes = (window.pixels() as u64).saturating_mul(header.channels.bytes_per_pixel as u64);
+    let uncompressed_scanlines = header.compression == Compression::Uncompressed
+        && matches!(header.blocks, BlockDescription::ScanLines)
+        && !header.deep
+        && meta.headers.len() == 1;
+    let summary = ExrSummary {
+        attributes,
+        display,
+        window,
+        channels,
+        decoded_bytes,
+        file_bytes,
+        uncompressed_scanlines,
+    };
+    summary.check_size()?;
+    Ok(summary)
 }
 
 fn attribute_text(value: &AttributeValue) -> String {
@@ -189,7 +294,7 @@ fn exr_problem(error: ::exr::error::Error) -> String {
             "truncated: the file ends inside the image".into()
         }
         ::exr::error::Error::Io(e) if e.kind() == std::io::ErrorKind::NotFound => "no such file".into(),
-        e => format!("not a readable EXR image ({e})"),
+        e => format!("not a readable EXR image ({})", quote(&e.to_string())),
     }
 }
 
@@ -236,31 +341,38 @@ pub fn read_part(path: &Path) -> Result<Part, PartError> {
 pub fn read_part_header(path: &Path) -> Result<PartHeader, PartError> {
     let error = |problem: String| PartError { path: path.display().to_string(), problem };
     let summary = read_summary(path)?;
-    let attribute =
-        |name: &str| summary.attributes.iter().find(|(n, _)| n == name).map(|(_, value)| value.clone());
-    check_part_header(attribute, summary.display, summary.window).map_err(error)
+    check_part_header(&summary).map_err(error)
 }
 
-/// The part header the attributes `attribute` give, checked: its crop is the data `window`
-/// and the file holds sums of this prisma's format.
-fn check_part_header(
-    attribute: impl Fn(&str) -> Option<String>,
-    display: (u32, u32),
-    window: PixelWindow,
-) -> Result<PartHeader, String> {
-    let header = PartHeader::from_attributes(&attribute, display)?;
-    if header.window != window {
-        return Err(format!("prisma.crop {} is not the data window {window}", header.window));
+/// The part header of the file `summary` describes, checked: every field
+/// ([`PartHeader::from_attributes`]), the digest of the header, its crop against the data
+/// window, the sums' format, and the storage a part has (uncompressed scan lines).
+fn check_part_header(summary: &ExrSummary) -> Result<PartHeader, String> {
+    let attribute = |name: &str| summary.attribute(name);
+    if attribute("prisma.sumsFormat").is_none() {
+        return Err("has no per-pixel sums: only renders made with --part, --samples, --crop or \
+                     --resume (and interrupted ones) can be merged or resumed"
+            .into());
     }
     match attribute("prisma.sumsFormat") {
-        None => Err("has no per-pixel sums: only renders made with --part, --samples, --crop or \
-                     --resume (and interrupted ones) can be merged or resumed"
-            .into()),
         Some(format) if format != SUMS_FORMAT => {
-            Err(format!("sums in format {format}, this prisma reads {SUMS_FORMAT}"))
+            return Err(format!("sums in format {}, this prisma reads {SUMS_FORMAT}", quote(&format)))
         }
-        Some(_) => Ok(header),
+        _ => {}
     }
+    match summary.header_intact() {
+        None => return Err(format!("no {HEADER_DIGEST} attribute (written by an older prisma, or altered)")),
+        Some(false) => return Err(HEADER_ALTERED.into()),
+        Some(true) => {}
+    }
+    if !summary.uncompressed_scanlines {
+        return Err("is compressed or tiled: prisma writes parts as uncompressed scan lines".into());
+    }
+    let header = PartHeader::from_attributes(attribute, summary.display)?;
+    if header.window != summary.window {
+        return Err(format!("prisma.crop {} is not the data window {}", header.window, summary.window));
+    }
+    Ok(header)
 }
 
 /// A part file read and checked, its sums still as the file stores them (word channels):
@@ -279,6 +391,16 @@ impl StoredPart {
     pub fn read(path: &Path) -> Result<Self, PartError> {
         let name = path.display().to_string();
         let error = |problem: String| PartError { path: name.clone(), problem };
+        // One open file for the header's checks and the pixels, so that what was checked is what
+        // is read.
+        let (file, file_bytes) = open_regular(path).map_err(error)?;
+        let summary = summary_of(&file, file_bytes).map_err(error)?;
+        let header = check_part_header(&summary).map_err(error)?;
+        let digest = summary
+            .attribute("prisma.sumsBlake3")
+            .ok_or_else(|| error("no prisma.sumsBlake3 attribute".into()))?;
+        let mut reader = BufReader::new(&file);
+        reader.seek(SeekFrom::Start(0)).map_err(|e| error(format!("cannot be read ({e})")))?;
         let image = read()
             .no_deep_data()
             .largest_resolution_level()
@@ -286,20 +408,15 @@ impl StoredPart {
             .first_valid_layer()
             .all_attributes()
             .pedantic()
-            .from_file(path)
+            .from_buffered(reader)
             .map_err(|e| error(exr_problem(e)))?;
         let mut layer = image.layer_data;
         let (display, window) =
             windows(image.attributes.display_window, layer.attributes.layer_position, layer.size)
                 .map_err(error)?;
-        let others = &image.attributes.other;
-        let own = &layer.attributes.other;
-        let attribute = |name: &str| {
-            others.iter().chain(own.iter()).find(|(n, _)| *n == name).map(|(_, v)| attribute_text(v))
-        };
-        let header = check_part_header(attribute, display, window).map_err(error)?;
-        let digest =
-            attribute("prisma.sumsBlake3").ok_or_else(|| error("no prisma.sumsBlake3 attribute".into()))?;
+        if (display, window) != (summary.display, summary.window) {
+            return Err(error("changed while being read".into()));
+        }
         // The stored sum channels, in the file's order: the digest first, then their names.
         let pixels = window.pixels();
         let mut stored = Vec::new();
@@ -319,12 +436,19 @@ impl StoredPart {
             ));
         }
         let values = header.layout().values_per_pixel();
+        let has_light = header.light_paths_per_pass > 0;
         let channels = stored
             .into_iter()
             .map(|(name, words)| match parse_sum_channel_name(&name) {
+                Some((true, _, _)) if !has_light => Err(error(format!(
+                    "channel {name} holds light-tracer sums but prisma.lightPathsPerPass is 0"
+                ))),
                 Some(key) if key.1 < values => Ok((key, words)),
                 Some(_) => Err(error(format!("channel {name} is beyond the {values} values per pixel"))),
-                None => Err(error(format!("channel {name} is not a sum channel of format {SUMS_FORMAT}"))),
+                None => Err(error(format!(
+                    "channel {} is not a sum channel of format {SUMS_FORMAT}",
+                    quote(&name)
+                ))),
             })
             .collect::<Result<_, _>>()?;
         Ok(Self { path: name, header, channels })

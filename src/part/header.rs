@@ -12,9 +12,23 @@
 //! | `prisma.settings` | the integrator settings as JSON: `max_depth`, `prune_below`, `wavelengths` (per sample), `area_light_samples`, `edge_samples` (camera samples per pass at edges, [`crate::edges`]; only when above 1), `polarized`, `caustics`, `light_paths` (per pass, 0 without caustics), `light_guide` (light paths started by a learned guide, [`crate::integrator::guide`]), `spectral_bands`, `monochromatic_nm` |
 //! | `prisma.wallSeconds`, `prisma.threads`, `prisma.parts` | render time (summed over merged parts), threads (the most any part used), parts merged into this file |
 //! | `prisma.sumsFormat`, `prisma.sumsBlake3` | present when the file holds per-pixel sums: their format and a BLAKE3 digest of them (corruption check) |
+//! | `prisma.headerBlake3` | BLAKE3 of every other `prisma.*` attribute and the display and data windows ([`header_digest`]): with `prisma.sumsBlake3` among them, it ties the header to the sums |
+//!
+//! **Read back, a header is input** ([`PartHeader::from_attributes`]): every field is checked
+//! against the limits a scene file has (image size, samples per pixel, light paths, bands,
+//! settings in their canonical form) and against the others (samples inside `0..spp`, light
+//! paths per pass equal to the settings'), before any buffer is sized from it. The digests
+//! catch accidents (a flipped bit, a truncated copy, an edited attribute), not a forger, who can
+//! recompute them: prisma does not sign parts.
 
-use crate::film::FilmLayout;
+use serde::Deserialize;
+
+use crate::film::{FilmLayout, SpectralBands};
+use crate::printable::quote;
+use crate::scene::build::MAX_LIGHT_PATHS;
+use crate::scene::limits::{MAX_DEPTH, MAX_HEADER_TEXT, MAX_RESOLUTION, MAX_SPECTRAL_BANDS, MAX_SPP};
 use crate::scene::{RenderSettings, Scene};
+use crate::spectrum::{LAMBDA_MAX_NM, LAMBDA_MIN_NM, N_LAMBDA};
 
 use super::{PixelWindow, SampleSet};
 
@@ -88,22 +102,130 @@ pub fn settings_json(settings: &RenderSettings, light_paths_per_pass: u64, layou
     json.to_string()
 }
 
-/// The film layout a settings JSON of [`settings_json`] describes, if it parses.
+/// The attribute holding [`header_digest`].
+pub const HEADER_DIGEST: &str = "prisma.headerBlake3";
+
+/// BLAKE3 (hex) of a header: every `prisma.*` attribute but [`HEADER_DIGEST`] itself, sorted by
+/// name (an EXR keeps its attributes unordered), each as name, zero byte, text, zero byte; then
+/// the display size and the data window. Includes `prisma.sumsBlake3` where the file has sums,
+/// so that a header cannot be moved onto other sums either.
+pub fn header_digest<'a>(
+    attributes: impl IntoIterator<Item = (&'a str, &'a str)>,
+    display: (u32, u32),
+    window: PixelWindow,
+) -> String {
+    let mut attributes: Vec<(&str, &str)> = attributes
+        .into_iter()
+        .filter(|(name, _)| name.starts_with("prisma.") && *name != HEADER_DIGEST)
+        .collect();
+    attributes.sort_unstable();
+    let mut hasher = blake3::Hasher::new();
+    for (name, text) in attributes {
+        for piece in [name, text] {
+            hasher.update(piece.as_bytes());
+            hasher.update(&[0]);
+        }
+    }
+    hasher.update(format!("display {}x{} window {window}", display.0, display.1).as_bytes());
+    crate::scene::digest::hex(hasher.finalize().as_bytes())
+}
+
+/// The settings JSON as [`settings_json`] writes it, read back strictly.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SettingsRecord {
+    max_depth: u32,
+    prune_below: f64,
+    wavelengths: usize,
+    area_light_samples: u32,
+    polarized: bool,
+    caustics: bool,
+    light_paths: u64,
+    light_guide: bool,
+    spectral_bands: Option<BandsRecord>,
+    monochromatic_nm: Option<f64>,
+    #[serde(default)]
+    edge_samples: Option<u32>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct BandsRecord {
+    count: u64,
+    min_nm: f64,
+    max_nm: f64,
+}
+
+/// The settings and film layout a settings JSON describes, checked field by field against the
+/// limits of a scene file and the command line, and required to be the very text
+/// [`settings_json`] writes for them (so that two parts whose texts differ are two renders).
+/// The error names the field.
+fn parse_settings(text: &str) -> Result<(RenderSettings, FilmLayout, u64), String> {
+    let record: SettingsRecord =
+        serde_json::from_str(text).map_err(|e| format!("is not prisma's settings JSON ({e})"))?;
+    let within = |field: &str, value: u64, low: u64, high: u64| {
+        if (low..=high).contains(&value) {
+            Ok(())
+        } else {
+            Err(format!("{field} = {value} is outside {low}..={high}"))
+        }
+    };
+    within("max_depth", record.max_depth.into(), 1, MAX_DEPTH.into())?;
+    within("wavelengths", record.wavelengths as u64, 1, N_LAMBDA as u64)?;
+    within("area_light_samples", record.area_light_samples.into(), 1, 65_536)?;
+    if let Some(edge_samples) = record.edge_samples {
+        within("edge_samples", edge_samples.into(), 2, crate::edges::MAX_EDGE_SAMPLES.into())?;
+    }
+    if !(0.0..1.0).contains(&record.prune_below) {
+        return Err(format!("prune_below = {} is outside [0, 1)", record.prune_below));
+    }
+    if record.caustics != (record.light_paths > 0) {
+        return Err(format!("caustics = {} with light_paths = {}", record.caustics, record.light_paths));
+    }
+    within("light_paths", record.light_paths, 0, MAX_LIGHT_PATHS)?;
+    let visible = |nm: f64| (f64::from(LAMBDA_MIN_NM)..=f64::from(LAMBDA_MAX_NM)).contains(&nm);
+    let bands = match record.spectral_bands {
+        None => None,
+        Some(b) => {
+            within("spectral_bands.count", b.count, 1, MAX_SPECTRAL_BANDS.into())?;
+            if !(visible(b.min_nm) && visible(b.max_nm) && b.min_nm < b.max_nm) {
+                return Err(format!(
+                    "spectral_bands {}–{} nm is not a range inside {LAMBDA_MIN_NM}–{LAMBDA_MAX_NM} nm",
+                    b.min_nm, b.max_nm
+                ));
+            }
+            Some(SpectralBands { count: b.count as usize, min_nm: b.min_nm as f32, max_nm: b.max_nm as f32 })
+        }
+    };
+    if let Some(nm) = record.monochromatic_nm.filter(|&nm| !visible(nm)) {
+        return Err(format!("monochromatic_nm = {nm} is outside {LAMBDA_MIN_NM}–{LAMBDA_MAX_NM} nm"));
+    }
+    let layout = FilmLayout {
+        stokes: record.polarized,
+        bands,
+        monochromatic_nm: record.monochromatic_nm.map(|nm| nm as f32),
+    };
+    let settings = RenderSettings {
+        max_depth: record.max_depth,
+        wavelengths: record.wavelengths,
+        area_light_samples: record.area_light_samples,
+        prune_below: record.prune_below as f32,
+        polarized: record.polarized,
+        caustics: record.caustics,
+        light_paths: (record.light_paths > 0).then_some(record.light_paths),
+        light_guide: record.light_guide,
+        edge_samples: record.edge_samples.unwrap_or(1),
+        ..RenderSettings::default()
+    };
+    if settings_json(&settings, record.light_paths, &layout) != text {
+        return Err("is not in the canonical form prisma writes (edited?)".into());
+    }
+    Ok((settings, layout, record.light_paths))
+}
+
+/// The film layout a settings JSON of [`settings_json`] describes, if it is valid.
 pub fn layout_of(settings: &str) -> Option<FilmLayout> {
-    let value: serde_json::Value = serde_json::from_str(settings).ok()?;
-    let bands = match &value["spectral_bands"] {
-        serde_json::Value::Null => None,
-        b => Some(crate::film::SpectralBands {
-            count: usize::try_from(b["count"].as_u64()?).ok().filter(|&c| c >= 1)?,
-            min_nm: b["min_nm"].as_f64()? as f32,
-            max_nm: b["max_nm"].as_f64()? as f32,
-        }),
-    };
-    let monochromatic_nm = match &value["monochromatic_nm"] {
-        serde_json::Value::Null => None,
-        nm => Some(nm.as_f64()? as f32),
-    };
-    Some(FilmLayout { stokes: value["polarized"].as_bool()?, bands, monochromatic_nm })
+    parse_settings(settings).ok().map(|(_, layout, _)| layout)
 }
 
 impl PartHeader {
@@ -121,7 +243,9 @@ impl PartHeader {
         Self {
             version: VERSION.to_owned(),
             commit: COMMIT.to_owned(),
-            scene: scene_name.to_owned(),
+            // A file name may hold control characters; the header holds them escaped, so that
+            // it reads back (a header's names may not hold any) and prints safely.
+            scene: crate::printable::one_line(scene_name),
             scene_sha256: scene.digest.clone(),
             seed: settings.seed,
             samples: SampleSet::default(),
@@ -156,7 +280,8 @@ impl PartHeader {
     }
 
     /// The header from the attributes `get` returns (by name) of a `width`×`height` display
-    /// window; the error names the missing or malformed attribute.
+    /// window, every field checked (see the module doc); the error names the attribute. The
+    /// digest ([`HEADER_DIGEST`]) is checked by the part reader, which knows the data window.
     pub fn from_attributes(
         get: impl Fn(&str) -> Option<String>,
         display: (u32, u32),
@@ -164,36 +289,76 @@ impl PartHeader {
         let text =
             |name: &str| get(name).ok_or_else(|| format!("no {name} attribute (not a prisma render?)"));
         fn number<T: std::str::FromStr>(name: &str, value: String) -> Result<T, String> {
-            value.trim().parse().map_err(|_| format!("{name} = \"{value}\" is not a number"))
+            value.trim().parse().map_err(|_| format!("{name} = \"{}\" is not a number", quote(&value)))
+        }
+        let name = |attribute: &str| -> Result<String, String> {
+            let value = text(attribute)?;
+            if value.len() > MAX_HEADER_TEXT || value.chars().any(char::is_control) {
+                return Err(format!(
+                    "{attribute} = \"{}\" is not a name (control characters, or over {MAX_HEADER_TEXT} bytes)",
+                    quote(&value)
+                ));
+            }
+            Ok(value)
+        };
+        let (width, height) = display;
+        if !(1..=MAX_RESOLUTION).contains(&width) || !(1..=MAX_RESOLUTION).contains(&height) {
+            return Err(format!("the image is {width}×{height}: each side must be in 1..={MAX_RESOLUTION}"));
+        }
+        let spp: u32 = number("prisma.spp", text("prisma.spp")?)?;
+        if !(1..=MAX_SPP).contains(&spp) {
+            return Err(format!("prisma.spp = {spp} is outside 1..={MAX_SPP}"));
         }
         let samples = text("prisma.samples")?;
         let samples = SampleSet::parse(&samples).map_err(|e| format!("prisma.samples: {e}"))?;
+        if samples.end() > spp {
+            return Err(format!("prisma.samples {samples} go past prisma.spp = {spp}"));
+        }
         let crop = text("prisma.crop")?;
-        let window =
-            PixelWindow::parse(&crop, display.0, display.1).map_err(|e| format!("prisma.crop: {e}"))?;
+        let window = PixelWindow::parse(&crop, width, height).map_err(|e| format!("prisma.crop: {e}"))?;
         let settings = text("prisma.settings")?;
-        if layout_of(&settings).is_none() {
-            return Err(format!("prisma.settings = {settings} is not valid"));
+        let (_, _, light_paths) =
+            parse_settings(&settings).map_err(|e| format!("prisma.settings {e}: {}", quote(&settings)))?;
+        let light_paths_per_pass: u64 =
+            number("prisma.lightPathsPerPass", text("prisma.lightPathsPerPass")?)?;
+        if light_paths_per_pass != light_paths {
+            return Err(format!(
+                "prisma.lightPathsPerPass = {light_paths_per_pass} is not the settings' light_paths = {light_paths}"
+            ));
+        }
+        let scene_sha256 = text("prisma.sceneSha256")?;
+        if scene_sha256.len() != 64
+            || !scene_sha256.bytes().all(|b| b.is_ascii_digit() || (b'a'..=b'f').contains(&b))
+        {
+            return Err(format!("prisma.sceneSha256 = \"{}\" is not a SHA-256 in hex", quote(&scene_sha256)));
+        }
+        let wall_seconds: f64 = number("prisma.wallSeconds", text("prisma.wallSeconds")?)?;
+        if !(wall_seconds.is_finite() && wall_seconds >= 0.0) {
+            return Err(format!("prisma.wallSeconds = {wall_seconds} is not a time"));
+        }
+        let parts: u32 = number("prisma.parts", text("prisma.parts")?)?;
+        if parts == 0 {
+            return Err("prisma.parts = 0: a file holds at least one part".into());
         }
         Ok(Self {
-            version: text("prisma.version")?,
-            commit: text("prisma.commit")?,
-            scene: text("prisma.scene")?,
-            scene_sha256: text("prisma.sceneSha256")?,
+            version: name("prisma.version")?,
+            commit: name("prisma.commit")?,
+            scene: name("prisma.scene")?,
+            scene_sha256,
             seed: number("prisma.seed", text("prisma.seed")?)?,
             samples,
-            spp: number("prisma.spp", text("prisma.spp")?)?,
+            spp,
             window,
             display,
             settings,
-            light_paths_per_pass: number("prisma.lightPathsPerPass", text("prisma.lightPathsPerPass")?)?,
-            wall_seconds: number("prisma.wallSeconds", text("prisma.wallSeconds")?)?,
+            light_paths_per_pass,
+            wall_seconds,
             threads: number("prisma.threads", text("prisma.threads")?)?,
-            parts: number("prisma.parts", text("prisma.parts")?)?,
+            parts,
         })
     }
 
-    /// The film layout of the settings (they were checked to parse when read).
+    /// The film layout of the settings (checked when read: [`Self::from_attributes`]).
     pub fn layout(&self) -> FilmLayout {
         layout_of(&self.settings).unwrap_or_default()
     }

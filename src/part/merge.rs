@@ -42,6 +42,7 @@ pub fn merge_files(paths: &[PathBuf], complete: bool) -> Result<Part, MergeError
         .collect::<Result<Vec<_>, _>>()
         .map_err(problem)?;
     let header = plan(&headers.iter().map(|(path, header)| (*path, header)).collect::<Vec<_>>(), complete)?;
+    check_memory(&header)?;
     let mut sums = WindowSums::new(header.window, header.layout(), header.light_paths_per_pass > 0);
     for (path, expected) in &headers {
         let part = StoredPart::read(path).map_err(problem)?;
@@ -51,6 +52,20 @@ pub fn merge_files(paths: &[PathBuf], complete: bool) -> Result<Part, MergeError
         part.add_to(&mut sums).map_err(problem)?;
     }
     Ok(Part { header, sums })
+}
+
+/// Refuses a merge whose sums and image cannot fit in the memory this process may use
+/// ([`crate::memory::available`]), before allocating them: the sums (camera and light, a
+/// [`FixedSum`](crate::fixed::FixedSum) per value), the image (f32 per value and its sRGB
+/// copies) and one part's channels at a time (up to six words per value and pixel).
+fn check_memory(header: &PartHeader) -> Result<(), MergeError> {
+    let values = header.layout().values_per_pixel() as u64;
+    let sums = if header.light_paths_per_pass > 0 { 2 } else { 1 };
+    let fixed = std::mem::size_of::<crate::fixed::FixedSum>() as u64;
+    let per_pixel = values * (sums * fixed + 4 + sums * 24) + 64;
+    let needed = (header.window.pixels() as u64).saturating_mul(per_pixel);
+    let (width, height) = (header.window.width(), header.window.height());
+    crate::memory::check(width, height, needed).map_err(|e| MergeError(format!("merging the parts: {e}")))
 }
 
 /// Checks that the parts with headers `parts` merge (see the module) and returns the header of
@@ -139,7 +154,10 @@ fn plan(parts: &[(&PathBuf, &PartHeader)], complete: bool) -> Result<PartHeader,
         window: bounds,
         wall_seconds: parts.iter().map(|(_, p)| p.wall_seconds).sum(),
         threads: parts.iter().map(|(_, p)| p.threads).max().unwrap_or(0),
-        parts: parts.iter().map(|(_, p)| p.parts).sum(),
+        parts: parts
+            .iter()
+            .try_fold(0u32, |total, (_, p)| total.checked_add(p.parts))
+            .ok_or_else(|| MergeError("the parts count more than 4294967295 merged parts".into()))?,
         ..(*first).clone()
     })
 }

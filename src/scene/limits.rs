@@ -30,6 +30,10 @@
 pub const MAX_RESOLUTION: u32 = 32_768;
 /// Largest accepted sample count per pixel.
 pub const MAX_SPP: u32 = 1 << 20;
+/// Most spectral bands an output may hold (`--spectral-bands`).
+pub const MAX_SPECTRAL_BANDS: u32 = 1024;
+/// Longest text of a part header's names (scene file, version, commit), in bytes.
+pub const MAX_HEADER_TEXT: usize = 4096;
 /// Largest accepted recursion depth (deep Whitted chains recurse on the thread stack).
 pub const MAX_DEPTH: u32 = 4096;
 /// Largest magnitude of a coordinate (positions, edges, mesh vertices after their transform),
