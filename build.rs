@@ -20,8 +20,11 @@ fn main() {
     let commit = own.then(|| git(&["rev-parse", "HEAD"])).flatten();
     let commit = match commit {
         Some(hash) => {
-            let dirty =
-                git(&["status", "--porcelain", "--untracked-files=no"]).is_some_and(|s| !s.is_empty());
+            // --no-optional-locks: a plain `git status` refreshes and rewrites .git/index, and a
+            // build that rewrote a file it watched made the next cargo command rebuild prisma
+            // (the first `cargo run` after `cargo test` recompiled it, issue 38).
+            let dirty = git(&["--no-optional-locks", "status", "--porcelain", "--untracked-files=no"])
+                .is_some_and(|s| !s.is_empty());
             if dirty {
                 format!("{hash}-dirty")
             } else {
@@ -31,11 +34,11 @@ fn main() {
         None => "unknown".to_owned(),
     };
     println!("cargo:rustc-env=PRISMA_COMMIT={commit}");
-    // Run again when HEAD moves or the sources change (for the -dirty mark).
-    for path in ["HEAD", "index"] {
-        if let Some(file) = own.then(|| git(&["rev-parse", "--git-path", path])).flatten() {
-            println!("cargo:rerun-if-changed={file}");
-        }
+    // Run again when HEAD moves or the sources change (for the -dirty mark). Not on
+    // .git/index: every `git status`, `git add` and editor plugin touches it, and each touch
+    // rebuilt prisma with the same commit.
+    if let Some(file) = own.then(|| git(&["rev-parse", "--git-path", "HEAD"])).flatten() {
+        println!("cargo:rerun-if-changed={file}");
     }
     if let Some(reference) = own.then(|| git(&["symbolic-ref", "-q", "HEAD"])).flatten() {
         if let Some(file) = git(&["rev-parse", "--git-path", &reference]) {
