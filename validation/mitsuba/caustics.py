@@ -20,7 +20,8 @@ translate.py's, plus the lights it does not know:
 
 Run from the repository root after `cargo build --release`:
   export DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM-19.so
-  validation/.venv/bin/python validation/mitsuba/caustics.py                    # every case
+  validation/.venv/bin/python validation/mitsuba/caustics.py                    # every case, into out/references
+  ... --out validation/references   (replace the committed references)
   validation/.venv/bin/python validation/mitsuba/caustics.py caustic_prism_550  # one case
   ... --quick    (1/16 of the samples, into a temporary directory)
 """
@@ -257,8 +258,9 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("cases", nargs="*", help=f"case names (default: all of {CASES_FILE})")
     parser.add_argument("--quick", action="store_true", help="1/16 of the samples, written to --out")
-    parser.add_argument("--out", type=pathlib.Path, help="output directory (default: validation/references, "
-                                                         "or a temporary one with --quick)")
+    parser.add_argument("--out", type=pathlib.Path, help="output directory (default: out/references, "
+                        "ignored by git, or a temporary one with --quick; --out validation/references "
+                        "replaces the committed references)")
     parser.add_argument("--prisma", help="prisma binary (default: $PRISMA or target/release/prisma)")
     args = parser.parse_args()
     with open(VALIDATION / CASES_FILE, "rb") as f:
@@ -272,7 +274,7 @@ def main():
             raise SystemExit(f"unknown cases: {sorted(unknown)}")
         cases = [c for c in cases if c["name"] in args.cases]
     out_dir = args.out or (pathlib.Path(tempfile.mkdtemp(prefix="caustics_quick_")) if args.quick
-                           else VALIDATION / "references")
+                           else VALIDATION.parent / "out" / "references")
     out_dir.mkdir(parents=True, exist_ok=True)
     prisma = args.prisma or translate.find_prisma()
     command = " ".join(shlex.quote(a) for a in [pathlib.Path(sys.executable).name,

@@ -24,8 +24,9 @@ reads. Spectral references are divided by Mitsuba's luminance normalisation erro
 
 Run from the repository root after validation/setup.sh and `cargo build --release`:
   export DRJIT_LIBLLVM_PATH=...          # printed by validation/setup.sh
-  validation/.venv/bin/python validation/mitsuba/render_references.py            # all cases
+  validation/.venv/bin/python validation/mitsuba/render_references.py            # all cases, into out/references
   validation/.venv/bin/python validation/mitsuba/render_references.py tp6_quad   # one case
+  ... --out validation/references   (replace the committed references)
   ... --quick    (1/16 of the samples, into /tmp, for trying changes)
   ... --polarised (the cases of polarised_cases.toml only)
   ... --variance-only CASE ...  (repeat committed references for their variance files only)
@@ -341,8 +342,9 @@ def main():
     parser.add_argument("--quick", action="store_true", help="1/16 of the samples, written to --out")
     parser.add_argument("--variance-only", action="store_true",
                         help="keep the committed references, add their variance files (and <case>_var.json)")
-    parser.add_argument("--out", type=pathlib.Path, help="output directory (default: validation/references, "
-                                                         "or a temporary one with --quick)")
+    parser.add_argument("--out", type=pathlib.Path, help="output directory (default: out/references, "
+                        "ignored by git, or a temporary one with --quick; --out validation/references "
+                        "replaces the committed references)")
     parser.add_argument("--prisma", help="prisma binary (default: $PRISMA or target/release/prisma)")
     args = parser.parse_args()
 
@@ -358,7 +360,7 @@ def main():
             raise SystemExit(f"unknown cases: {sorted(unknown)}")
         cases = [(c, f) for c, f in cases if c["name"] in args.cases]
     out_dir = args.out or (pathlib.Path(tempfile.mkdtemp(prefix="references_quick_")) if args.quick
-                           else VALIDATION / "references")
+                           else VALIDATION.parent / "out" / "references")
     out_dir.mkdir(parents=True, exist_ok=True)
     prisma = args.prisma or translate.find_prisma()
     command = " ".join(shlex.quote(a) for a in [f"{pathlib.Path(sys.executable).name}",
