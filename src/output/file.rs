@@ -738,6 +738,57 @@ mod tests {
         assert_eq!(std::fs::read_to_string(&real).unwrap(), "new");
     }
 
+    #[cfg(unix)]
+    #[test]
+    fn a_replaced_file_keeps_its_permission_bits() {
+        use std::os::unix::fs::PermissionsExt;
+        let dir = tempfile::tempdir().unwrap();
+        let target = dir.path().join("private.exr");
+        std::fs::write(&target, "old").unwrap();
+        std::fs::set_permissions(&target, std::fs::Permissions::from_mode(0o600)).unwrap();
+        write_text(&target, "new").unwrap();
+        assert_eq!(std::fs::read_to_string(&target).unwrap(), "new");
+        assert_eq!(std::fs::metadata(&target).unwrap().permissions().mode() & 0o7777, 0o600);
+    }
+
+    #[test]
+    fn abandoned_outputs_remove_the_directories_they_made() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::create_dir(dir.path().join("kept")).unwrap();
+        let result = write_file(&dir.path().join("kept/new/deeper/a.json"), |sink| {
+            sink.write_all(b"{").unwrap();
+            Err(io_error("disk full"))
+        });
+        assert!(result.is_err());
+        assert_eq!(entries(dir.path()), ["kept"], "the directory that was there stays");
+        assert!(entries(&dir.path().join("kept")).is_empty(), "new/deeper are gone");
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn an_output_linked_to_an_input_is_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let scene = dir.path().join("scene.toml");
+        std::fs::write(&scene, "x").unwrap();
+        let hard = dir.path().join("hard.json");
+        std::fs::hard_link(&scene, &hard).unwrap();
+        let soft = dir.path().join("soft.json");
+        std::os::unix::fs::symlink(&scene, &soft).unwrap();
+        let inputs = [(scene.as_path(), "the scene file")];
+        for output in [&scene, &hard, &soft] {
+            let error = check_not_inputs([("--stats", output.as_path())], &inputs).expect_err("an input");
+            assert!(error.to_string().starts_with("--stats "), "{error}");
+            assert!(error.to_string().contains("is the scene file"), "{error}");
+        }
+        let other = dir.path().join("other.json");
+        assert!(check_not_inputs([("--stats", other.as_path())], &inputs).is_ok());
+        // A device is written in place, never replaced: no input can be lost through it.
+        let null = [(Path::new("/dev/null"), "the scene file")];
+        assert!(check_not_inputs([("-o", Path::new("/dev/null"))], &null).is_ok());
+        assert!(check_regular_input(Path::new("/dev/null"), "the part being merged")
+            .is_err_and(|e| e.contains("a character device")));
+    }
+
     #[test]
     fn same_file_sees_through_spellings() {
         let dir = tempfile::tempdir().unwrap();
