@@ -235,6 +235,16 @@ fn replacing_an_output_keeps_its_mode() {
         "a private image stays private"
     );
     assert_eq!(std::fs::metadata(&png).unwrap().permissions().mode() & 0o7777, 0o640);
+
+    // As root, the owner is kept too (uid and gid 65534: `nobody`).
+    // SAFETY: geteuid has no preconditions.
+    if unsafe { libc::geteuid() } == 0 {
+        use std::os::unix::fs::MetadataExt;
+        std::os::unix::fs::chown(&exr, Some(65534), Some(65534)).unwrap();
+        assert!(render(&scene, &args).status.success());
+        let meta = std::fs::metadata(&exr).unwrap();
+        assert_eq!((meta.uid(), meta.gid(), meta.mode() & 0o7777), (65534, 65534, 0o600));
+    }
 }
 
 #[test]
