@@ -7,7 +7,7 @@
 //! hide a validation failure.
 
 use std::fmt::Write as _;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::anyhow;
 use clap::Args;
@@ -17,7 +17,7 @@ use super::{output_error, say, CliError};
 use prisma::light::Light;
 use prisma::material::{Conductor, Material};
 use prisma::optics::Ior;
-use prisma::output::file::{check_destination, text_into, Outputs};
+use prisma::output::file::{check_destination, check_not_inputs, text_into, Outputs};
 use prisma::spectrum::{DenseSpectrum, LAMBDA_MAX_NM, LAMBDA_MIN_NM};
 
 /// Arguments of `prisma export`.
@@ -25,7 +25,7 @@ use prisma::spectrum::{DenseSpectrum, LAMBDA_MAX_NM, LAMBDA_MIN_NM};
 pub struct ExportArgs {
     /// Scene file.
     scene: PathBuf,
-    /// Output directory (created if needed).
+    /// Output directory (created if needed; removed again if the export fails).
     #[arg(short, long, value_name = "DIR")]
     output: PathBuf,
     /// Wavelength step in nm.
@@ -39,7 +39,14 @@ pub fn run(args: &ExportArgs) -> Result<(), CliError> {
         return Err(CliError::Input(anyhow!("--step-nm must be in [0.1, 100], got {}", args.step_nm)));
     }
     let scene = prisma::scene::load(&args.scene).map_err(|e| CliError::Input(e.into()))?;
-    check_destination(&args.output.join("spectra.json")).map_err(|e| CliError::Input(e.into()))?;
+    let spectra_path = args.output.join("spectra.json");
+    check_destination(&spectra_path).map_err(|e| CliError::Input(e.into()))?;
+    let mesh_paths: Vec<PathBuf> =
+        (0..scene.geometry.meshes().len()).map(|k| args.output.join(format!("mesh_{k}.obj"))).collect();
+    let mut inputs: Vec<(&Path, &str)> = vec![(&args.scene, "the scene file")];
+    inputs.extend(scene.mesh_files.iter().map(|mesh| (mesh.as_path(), "a mesh the scene loads")));
+    let outputs = std::iter::once(&spectra_path).chain(&mesh_paths).map(|path| ("-o", path.as_path()));
+    check_not_inputs(outputs, &inputs).map_err(|e| CliError::Input(e.into()))?;
     let count = ((LAMBDA_MAX_NM - LAMBDA_MIN_NM) / args.step_nm).floor() as usize + 1;
     let grid: Vec<f32> = (0..count).map(|i| LAMBDA_MIN_NM + i as f32 * args.step_nm).collect();
     let table =
@@ -100,13 +107,12 @@ pub fn run(args: &ExportArgs) -> Result<(), CliError> {
         "lights": lights,
     });
     let text = serde_json::to_string_pretty(&document).map_err(|e| CliError::Failed(e.into()))?;
-    let spectra_path = args.output.join("spectra.json");
     let mut outputs = Outputs::new();
     let mut written = vec![spectra_path.clone()];
     outputs
         .stage(&spectra_path, |sink| text_into(sink, &spectra_path, &text))
         .map_err(|e| output_error(e, "writing the spectra"))?;
-    for (k, mesh) in scene.geometry.meshes().iter().enumerate() {
+    for (k, (mesh, path)) in scene.geometry.meshes().iter().zip(mesh_paths).enumerate() {
         let mut obj = format!("# mesh {k} of {} as resolved by prisma (scene space)\n", args.scene.display());
         for p in &mesh.positions {
             let _ = writeln!(obj, "v {} {} {}", p.x, p.y, p.z);
@@ -114,7 +120,6 @@ pub fn run(args: &ExportArgs) -> Result<(), CliError> {
         for t in &mesh.triangles {
             let _ = writeln!(obj, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1);
         }
-        let path = args.output.join(format!("mesh_{k}.obj"));
         outputs
             .stage(&path, |sink| text_into(sink, &path, &obj))
             .map_err(|e| output_error(e, "writing a mesh"))?;

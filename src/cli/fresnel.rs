@@ -20,7 +20,7 @@ use prisma::optics::catalogue;
 use prisma::optics::conductor::fresnel_conductor;
 use prisma::optics::fresnel::fresnel_dielectric_amplitudes;
 use prisma::optics::{fresnel_dielectric, metals, Ior};
-use prisma::output::file::{check_destination, text_into, Outputs};
+use prisma::output::file::{check_destination, check_not_inputs, text_into, Outputs};
 
 /// The phase convention, as the plots' subtitles and the CSV header state it.
 const PHASE_CONVENTION: &str =
@@ -147,6 +147,10 @@ pub fn run(args: &FresnelArgs) -> Result<(), CliError> {
         check_destination(path).map_err(|e| CliError::Input(e.into()))?;
     }
     if let Some(fixture) = &args.fixture {
+        let outputs = [("-o", args.output.as_deref()), ("--plot", args.plot.as_deref())];
+        let outputs = outputs.into_iter().filter_map(|(flag, path)| Some((flag, path?)));
+        check_not_inputs(outputs, &[(fixture.as_path(), "the fixture being plotted")])
+            .map_err(|e| CliError::Input(e.into()))?;
         return run_fixture(fixture, args.plot.as_deref());
     }
     let spec = args.ior.as_deref().unwrap_or_default();

@@ -8,7 +8,7 @@ use clap::Args;
 
 use super::{say, CliError};
 use prisma::output::exr::encode_exr_part;
-use prisma::output::file::{check_destination, same_file, Outputs};
+use prisma::output::file::{check_destination, check_not_inputs, check_regular_input, same_file, Outputs};
 use prisma::part::merge_files;
 
 /// Arguments of `prisma merge`.
@@ -39,6 +39,12 @@ pub fn run(args: &MergeArgs) -> Result<(), CliError> {
             args.output.display()
         )));
     }
+    for path in &args.parts {
+        check_regular_input(path, "the part being merged").map_err(|e| input(anyhow!(e)))?;
+    }
+    let parts: Vec<(&std::path::Path, &str)> =
+        args.parts.iter().map(|part| (part.as_path(), "the part being merged")).collect();
+    check_not_inputs([("-o", args.output.as_path())], &parts).map_err(|e| input(e.into()))?;
     for (i, path) in args.parts.iter().enumerate() {
         if args.parts[..i].iter().any(|earlier| same_file(earlier, path)) {
             return Err(input(anyhow!("{}: given twice (its samples would count twice)", path.display())));

@@ -29,7 +29,7 @@ use super::plot::encode_png_compact;
 use super::{output_error, say, CliError};
 use figure::{Options, StokesImage};
 use prisma::output::exr::{read_exr, ExrImage};
-use prisma::output::file::{check_destination, write_file};
+use prisma::output::file::{check_destination, check_not_inputs, write_file};
 use prisma::output::OutputError;
 
 /// Arguments of `prisma polviz`.
@@ -102,6 +102,8 @@ pub fn run(args: &PolvizArgs) -> Result<(), CliError> {
         return Err(CliError::Input(anyhow!("{}: the output must be a .png file", output.display())));
     }
     check_destination(&output).map_err(|e| CliError::Input(e.into()))?;
+    check_not_inputs([("-o", output.as_path())], &[(args.input.as_path(), "the image being mapped")])
+        .map_err(|e| CliError::Input(e.into()))?;
     let exr = read_input(&args.input).map_err(CliError::Input)?;
     let image = stokes_image(&exr, &args.input, args.channel, args.wavelength).map_err(CliError::Input)?;
     let options =

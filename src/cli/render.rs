@@ -12,7 +12,9 @@ use super::{say, CliError};
 use prisma::film::{FilmLayout, SpectralBands, WindowSums};
 use prisma::integrator::LightTracer;
 use prisma::output::exr::encode_exr_part;
-use prisma::output::file::{check_destination, same_file, text_into, Destination, Outputs};
+use prisma::output::file::{
+    check_destination, check_not_inputs, check_regular_input, same_file, text_into, Destination, Outputs,
+};
 use prisma::output::png::encode_png;
 use prisma::output::OutputError;
 use prisma::part::{read_part, PartHeader, PixelWindow, SampleSet};
@@ -225,6 +227,24 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         CliError::Input(anyhow!("{}: with --max-depth: {message}", args.scene.display()))
     })?;
     let input = |e: anyhow::Error| CliError::Input(e);
+
+    let stem = match args.wavelength {
+        Some(nm) => format!("{}_{nm}nm", scene.name),
+        None => scene.name.clone(),
+    };
+    let exr_path = args.output.clone().unwrap_or_else(|| Path::new("out").join(format!("{stem}.exr")));
+    let destinations = Destinations::check(&exr_path, args.preview.as_deref(), args.stats.as_deref())?;
+    let mut inputs: Vec<(&Path, &str)> = Vec::new();
+    if !args.builtin {
+        inputs.push((&args.scene, "the scene file"));
+    }
+    inputs.extend(scene.mesh_files.iter().map(|mesh| (mesh.as_path(), "a mesh the scene loads")));
+    if let Some(part) = &args.resume {
+        check_regular_input(part, "the part being resumed").map_err(|e| input(anyhow!(e)))?;
+        inputs.push((part, "the part being resumed"));
+    }
+    check_not_inputs(destinations.named(), &inputs).map_err(|e| input(e.into()))?;
+
     let prior = match &args.resume {
         Some(path) => Some(read_part(path).map_err(|e| input(e.into()))?),
         None => None,
@@ -295,13 +315,6 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     }
     let is_part = args.part || args.samples.is_some() || args.crop.is_some() || prior.is_some();
 
-    let stem = match args.wavelength {
-        Some(nm) => format!("{}_{nm}nm", scene.name),
-        None => scene.name.clone(),
-    };
-    let exr_path = args.output.clone().unwrap_or_else(|| Path::new("out").join(format!("{stem}.exr")));
-    let destinations = Destinations::check(&exr_path, args.preview.as_deref(), args.stats.as_deref())?;
-
     let terminal = std::io::stderr().is_terminal();
     let show = !args.quiet && terminal;
     let job = Job {
@@ -349,6 +362,16 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let film = sums.film(done.len(), light_paths_per_pass, (width, height));
     film.check_finite().map_err(|e| render_error(RenderError::NonFinite(e), &args.scene))?;
 
+    if interrupted && destinations.exr_special {
+        // `/dev/null.partial.exr` would be a regular file among the devices; a pipe's reader
+        // expects the image, not a part.
+        return Err(CliError::Interrupted(anyhow!(
+            "interrupted after samples {done} of 0..{}: nothing was written, as -o {} is not a regular \
+             file and has no place beside it for a part (render to a file to be able to resume)",
+            settings.spp,
+            destinations.exr.display()
+        )));
+    }
     if interrupted {
         let partial = partial_path(&destinations.exr);
         let mut outputs = Outputs::new();
@@ -499,6 +522,8 @@ fn spectral_bands(count: Option<u32>, range: Option<&str>) -> anyhow::Result<Opt
 /// The files a render writes, checked before it starts.
 struct Destinations {
     exr: PathBuf,
+    /// The EXR goes to a special file (a device, a FIFO): written in place, no part beside it.
+    exr_special: bool,
     preview: Option<PathBuf>,
     stats: Option<PathBuf>,
 }
@@ -539,7 +564,16 @@ impl Destinations {
                 }
             }
         }
-        Ok(Self { exr: exr.to_owned(), preview, stats: stats.map(Path::to_owned) })
+        let exr_special = matches!(exr_destination, Destination::Special(_));
+        Ok(Self { exr: exr.to_owned(), exr_special, preview, stats: stats.map(Path::to_owned) })
+    }
+
+    /// Each output with the flag that names it.
+    fn named(&self) -> Vec<(&str, &Path)> {
+        let mut named = vec![("-o", self.exr.as_path())];
+        named.extend(self.preview.as_deref().map(|path| ("--preview", path)));
+        named.extend(self.stats.as_deref().map(|path| ("--stats", path)));
+        named
     }
 }
 

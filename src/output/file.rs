@@ -3,18 +3,35 @@
 //!
 //! - **Checked before any work** ([`check_destination`]): a directory, a path ending in `/`, a
 //!   block device, a socket or a dangling symbolic link is refused, and the nearest existing
-//!   directory must accept a new file. Commands run these checks before they render.
+//!   directory must accept a new file. Commands run these checks before they render, and
+//!   [`check_not_inputs`] before they read: no output may be one of the command's inputs (the
+//!   scene file, a mesh it loads, a part being merged or resumed), however it is spelled (a
+//!   symbolic or hard link to it counts: files are compared by device and inode).
 //! - **Staged, then put in place together** ([`Outputs::stage`], [`Outputs::commit`]): each
 //!   output is encoded into a hidden temporary file beside its destination
 //!   (`.NAME.tmp-PID-N.EXT`); every write, the final flush and an `fsync` are checked. Only when
 //!   every output of a command is staged are they renamed over their destinations, so a failure
 //!   while encoding or writing any of them (a full disk, an encoder error) leaves no new file
 //!   and every old one as it was. A failing rename during the commit (very rare: the staging
-//!   proved the directory writable) leaves the outputs renamed before it in place.
+//!   proved the directory writable) leaves the outputs renamed before it in place. Missing
+//!   directories on the way to an output are created; when the outputs are abandoned after an
+//!   error, the directories created for them are removed again.
+//! - **A replaced file keeps its permission bits** (a 0600 image stays 0600), and its owner and
+//!   group when prisma runs as root (the temporary file is given them before any byte is
+//!   written); otherwise the new file belongs to whoever ran prisma, as any new file does. The
+//!   replacement is a new file (an inode): **hard links** to the old one keep the old contents.
 //! - **Special files are written, never replaced.** Renaming over `/dev/null` as root replaced
 //!   the device node with a regular file; a character device or a FIFO is now opened and written
-//!   in place (its bytes staged in memory until the commit). A symbolic link is followed: the
-//!   file it points to is replaced, the link stays.
+//!   in place (its bytes staged in memory until the commit), through any symbolic link that leads
+//!   to it (`/dev/stdout` into a pipe: `/proc/self/fd/1` names `pipe:[N]`, no path).
+//! - **Symbolic links are followed as the kernel would follow them.** The file a link points to
+//!   is replaced and the link stays, except for a link that Linux's `fs.protected_symlinks`
+//!   forbids following: a link in a sticky world-writable directory (`/tmp`) owned by neither the
+//!   user running prisma nor the directory's owner. That one is refused (exit code 2) whether or
+//!   not the sysctl is on, since prisma resolves the link itself and the kernel cannot see it:
+//!   another user's link in `/tmp` must not let them aim root's render at root's files.
+//!   Every link from the output's name to its file is checked (links among the directories
+//!   above it are followed as the path lookup follows them).
 //! - **Interrupted, nothing is left behind.** Temporary files are registered while they exist;
 //!   [`abandon_and_exit`] deletes them and exits, and the binary calls it from its Ctrl-C /
 //!   SIGTERM handler. (A registry of paths is the one piece of global state here: a
@@ -62,17 +79,29 @@ impl Temporary {
     /// A new file with an unused name beside `target`, created and registered together under the
     /// registry's lock (so that [`abandon_and_exit`] sees every file that exists, and none is
     /// created after it).
-    fn create_beside(target: &Path) -> std::io::Result<(Self, File)> {
+    fn create_beside(target: &Path, like: Option<&std::fs::Metadata>) -> std::io::Result<(Self, File)> {
         let stem = target.file_stem().map_or_else(|| "output".into(), |s| s.to_string_lossy().into_owned());
         let ext = target.extension().map(|e| format!(".{}", e.to_string_lossy())).unwrap_or_default();
         let number = NEXT_TEMPORARY.fetch_add(1, Ordering::Relaxed);
         let path = target.with_file_name(format!(".{stem}.tmp-{}-{number}{ext}", std::process::id()));
         let file = registry_update(|paths| {
-            let file = OpenOptions::new().write(true).create_new(true).open(&path)?;
+            let mut options = OpenOptions::new();
+            options.write(true).create_new(true);
+            #[cfg(unix)]
+            if let Some(old) = like {
+                use std::os::unix::fs::{OpenOptionsExt, PermissionsExt};
+                // Never more open than the file it replaces, even before the chmod below.
+                options.mode(old.permissions().mode() & PERMISSION_BITS);
+            }
+            let file = options.open(&path)?;
             paths.push(path.clone());
             Ok::<_, std::io::Error>(file)
         })?;
-        Ok((Self { path, owned: true }, file))
+        let temporary = Self { path, owned: true };
+        if let Some(old) = like {
+            take_over_mode(&file, old)?;
+        }
+        Ok((temporary, file))
     }
 
     /// The file was renamed away: nothing to remove any more.
@@ -88,6 +117,27 @@ impl Drop for Temporary {
         }
         registry_update(|paths| paths.retain(|p| p != &self.path));
     }
+}
+
+/// The permission bits a replacement keeps (read, write, execute for owner, group, others; not
+/// set-user-ID, set-group-ID or sticky, which an image has no use for).
+#[cfg(unix)]
+const PERMISSION_BITS: u32 = 0o777;
+
+/// Gives the new file `file` the permission bits of `old` (the umask applied to its creation
+/// mode may have removed some), and its owner and group when running as root.
+#[cfg(unix)]
+fn take_over_mode(file: &File, old: &std::fs::Metadata) -> std::io::Result<()> {
+    use std::os::unix::fs::{MetadataExt, PermissionsExt};
+    if effective_uid() == 0 {
+        std::os::unix::fs::fchown(file, Some(old.uid()), Some(old.gid()))?;
+    }
+    file.set_permissions(std::fs::Permissions::from_mode(old.mode() & PERMISSION_BITS))
+}
+
+#[cfg(not(unix))]
+fn take_over_mode(_file: &File, _old: &std::fs::Metadata) -> std::io::Result<()> {
+    Ok(())
 }
 
 /// The registry of temporary files, locked (a panic elsewhere poisons the lock; the list it
@@ -139,11 +189,19 @@ pub fn check_destination(path: &Path) -> Result<Destination, OutputError> {
     }
     match std::fs::symlink_metadata(path) {
         Ok(meta) if meta.file_type().is_symlink() => {
-            let target = std::fs::canonicalize(path).map_err(|_| refuse("is a dangling symbolic link"))?;
-            match check_destination(&target)? {
-                Destination::Replace(_) => Ok(Destination::Replace(target)),
-                special => Ok(special),
+            check_link_chain(path).map_err(|problem| refuse(&problem))?;
+            // `metadata` follows the link as opening it would; `canonicalize` cannot follow
+            // `/proc/self/fd/1` when it names a pipe (`pipe:[N]`), which is still writable.
+            let target_meta = std::fs::metadata(path).map_err(|_| refuse("is a dangling symbolic link"))?;
+            if target_meta.is_dir() {
+                return Err(refuse("is a symbolic link to a directory; give a file name"));
             }
+            if !target_meta.is_file() {
+                return special_kind(path, &target_meta).map_err(|what| refuse(&what));
+            }
+            let target = std::fs::canonicalize(path).map_err(|_| refuse("is a dangling symbolic link"))?;
+            probe_directory(&target)?;
+            Ok(Destination::Replace(target))
         }
         Ok(meta) => {
             let kind = meta.file_type();
@@ -161,6 +219,67 @@ pub fn check_destination(path: &Path) -> Result<Destination, OutputError> {
             Ok(Destination::Replace(path.to_owned()))
         }
     }
+}
+
+/// Follows the chain of symbolic links that starts at `path` (itself a link) and refuses a link
+/// that Linux's `fs.protected_symlinks` would not follow: see the module doc.
+fn check_link_chain(path: &Path) -> Result<(), String> {
+    // The kernel's own limit on links followed in one lookup.
+    const MAX_LINKS: usize = 40;
+    let mut link = path.to_path_buf();
+    for _ in 0..MAX_LINKS {
+        let meta = match std::fs::symlink_metadata(&link) {
+            Ok(meta) if meta.file_type().is_symlink() => meta,
+            _ => return Ok(()),
+        };
+        let directory = link.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+        if let Some(problem) = protected_link(&meta, directory) {
+            return Err(if link == path {
+                problem
+            } else {
+                format!("leads to {}, which {problem}", link.display())
+            });
+        }
+        let Ok(next) = std::fs::read_link(&link) else { return Ok(()) };
+        link = directory.join(next);
+    }
+    Err(format!("leads through more than {MAX_LINKS} symbolic links"))
+}
+
+/// Why the kernel (`fs.protected_symlinks`, `may_follow_link` in fs/namei.c) would refuse to
+/// follow a symbolic link (metadata `meta`) in `directory` for this process: a link in
+/// a sticky world-writable directory may be followed only by its owner, or when the directory's
+/// owner owns it too.
+#[cfg(unix)]
+fn protected_link(meta: &std::fs::Metadata, directory: &Path) -> Option<String> {
+    use std::os::unix::fs::MetadataExt;
+    const STICKY_WORLD_WRITABLE: u32 = 0o1002;
+    let dir = std::fs::metadata(directory).ok()?;
+    let follower = effective_uid();
+    if meta.uid() == follower
+        || dir.mode() & STICKY_WORLD_WRITABLE != STICKY_WORLD_WRITABLE
+        || meta.uid() == dir.uid()
+    {
+        return None;
+    }
+    Some(format!(
+        "is a symbolic link owned by another user (uid {}) in the sticky world-writable directory {}: \
+         refused, as the kernel's fs.protected_symlinks refuses to follow it (remove the link or write elsewhere)",
+        meta.uid(),
+        directory.display()
+    ))
+}
+
+#[cfg(not(unix))]
+fn protected_link(_meta: &std::fs::Metadata, _directory: &Path) -> Option<String> {
+    None
+}
+
+/// The effective user id of this process.
+#[cfg(unix)]
+fn effective_uid() -> u32 {
+    // SAFETY: geteuid has no preconditions and cannot fail.
+    unsafe { libc::geteuid() }
 }
 
 #[cfg(unix)]
@@ -202,7 +321,7 @@ fn probe_directory(path: &Path) -> Result<(), OutputError> {
             },
         }
     }
-    let (probe, file) = Temporary::create_beside(&ancestor.join("probe"))
+    let (probe, file) = Temporary::create_beside(&ancestor.join("probe"), None)
         .map_err(|e| refuse(format!("cannot create a file in {}: {e}", ancestor.display())))?;
     drop(file);
     drop(probe);
@@ -255,6 +374,9 @@ enum Staged {
 #[derive(Default)]
 pub struct Outputs {
     staged: Vec<Staged>,
+    /// Directories created for the outputs, parents first: removed again (when still empty)
+    /// unless the commit succeeds.
+    created: Vec<PathBuf>,
 }
 
 impl Outputs {
@@ -280,9 +402,10 @@ impl Outputs {
             }
             Destination::Replace(target) => {
                 if let Some(dir) = target.parent().filter(|d| !d.as_os_str().is_empty()) {
-                    std::fs::create_dir_all(dir).map_err(io)?;
+                    create_directories(dir, &mut self.created).map_err(io)?;
                 }
-                let (temporary, file) = Temporary::create_beside(&target).map_err(io)?;
+                let old = std::fs::metadata(&target).ok().filter(std::fs::Metadata::is_file);
+                let (temporary, file) = Temporary::create_beside(&target, old.as_ref()).map_err(io)?;
                 let mut sink = Sink::File(BufWriter::new(file));
                 encode(&mut sink)?;
                 let Sink::File(buffered) = sink else { unreachable!("a file sink stays one") };
@@ -321,6 +444,7 @@ impl Outputs {
                 }
             }
         }
+        self.created.clear();
         // Best effort: makes the renames durable; some file systems refuse fsync on directories.
         for dir in directories {
             if let Ok(dir) = File::open(dir) {
@@ -329,6 +453,39 @@ impl Outputs {
         }
         Ok(())
     }
+}
+
+impl Drop for Outputs {
+    /// Abandoned: the staged temporary files go first, then the directories created for them
+    /// (innermost first; one that holds anything else stays).
+    fn drop(&mut self) {
+        self.staged.clear();
+        for dir in self.created.iter().rev() {
+            let _ = std::fs::remove_dir(dir);
+        }
+    }
+}
+
+/// Creates `dir` and its missing ancestors, adding each one created to `created` (parents first).
+fn create_directories(dir: &Path, created: &mut Vec<PathBuf>) -> std::io::Result<()> {
+    let mut missing = Vec::new();
+    let mut ancestor = Some(dir);
+    while let Some(path) = ancestor.filter(|p| !p.as_os_str().is_empty()) {
+        if std::fs::metadata(path).is_ok() {
+            break;
+        }
+        missing.push(path.to_path_buf());
+        ancestor = path.parent();
+    }
+    for path in missing.into_iter().rev() {
+        match std::fs::create_dir(&path) {
+            Ok(()) => created.push(path),
+            // Made meanwhile by someone else: theirs, not to be removed.
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {}
+            Err(e) => return Err(e),
+        }
+    }
+    Ok(())
 }
 
 /// Writes a single output (see [`Outputs`]).
@@ -352,10 +509,80 @@ pub fn text_into(sink: &mut Sink, path: &Path, text: &str) -> Result<(), OutputE
         .map_err(|source| OutputError::Io { path: path.display().to_string(), source })
 }
 
-/// Whether two destinations are the same file: the same inode where both exist, else the same
-/// absolute path once symbolic links in their existing ancestors are resolved.
+/// Whether two paths name the same file: the same device and inode where both exist (so a
+/// symbolic or hard link to a file is that file), else the same absolute path once symbolic
+/// links in their existing ancestors are resolved.
 pub fn same_file(a: &Path, b: &Path) -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        if let (Ok(a), Ok(b)) = (std::fs::metadata(a), std::fs::metadata(b)) {
+            return (a.dev(), a.ino()) == (b.dev(), b.ino());
+        }
+    }
     identity(a) == identity(b)
+}
+
+/// Refuses an output that is one of the command's inputs, before any work: `outputs` are
+/// (the flag that names it, its path), `inputs` are (its path, what it is: "the scene file",
+/// "the part being merged"). The error reads `-o a.exr: is the part being merged; …`. A special
+/// file among the outputs (`/dev/null`, a pipe) is written in place and replaces nothing, so it
+/// is not compared.
+pub fn check_not_inputs<'a>(
+    outputs: impl IntoIterator<Item = (&'a str, &'a Path)>,
+    inputs: &[(&Path, &str)],
+) -> Result<(), OutputError> {
+    for (flag, output) in outputs {
+        if std::fs::metadata(output).is_ok_and(|meta| !meta.is_file()) {
+            continue;
+        }
+        if let Some((_, what)) = inputs.iter().find(|(input, _)| same_file(output, input)) {
+            return Err(OutputError::Destination {
+                path: format!("{flag} {}", output.display()),
+                problem: format!("is {what}; an output never replaces an input, so give another name"),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Refuses an input that is not a regular file (a FIFO would block the read until someone
+/// writes to it; a device may never end), before reading it: the one-line error reads `PATH:
+/// the part being merged is a FIFO, not a regular file`, with `what` naming the input. A
+/// missing file passes: reading it reports that.
+pub fn check_regular_input(path: &Path, what: &str) -> Result<(), String> {
+    match std::fs::metadata(path) {
+        Ok(meta) if !meta.is_file() => {
+            Err(format!("{}: {what} is {}, not a regular file", path.display(), kind_name(&meta)))
+        }
+        _ => Ok(()),
+    }
+}
+
+/// A name for the kind of a file that is not a regular one.
+fn kind_name(meta: &std::fs::Metadata) -> &'static str {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        let kind = meta.file_type();
+        if kind.is_fifo() {
+            return "a FIFO";
+        }
+        if kind.is_char_device() {
+            return "a character device";
+        }
+        if kind.is_block_device() {
+            return "a block device";
+        }
+        if kind.is_socket() {
+            return "a socket";
+        }
+    }
+    if meta.is_dir() {
+        "a directory"
+    } else {
+        "a special file"
+    }
 }
 
 fn identity(path: &Path) -> PathBuf {
@@ -509,6 +736,57 @@ mod tests {
         write_text(&link, "new").unwrap();
         assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
         assert_eq!(std::fs::read_to_string(&real).unwrap(), "new");
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_replaced_file_keeps_its_permission_bits() {
+        use std::os::unix::fs::PermissionsExt;
+        let dir = tempfile::tempdir().unwrap();
+        let target = dir.path().join("private.exr");
+        std::fs::write(&target, "old").unwrap();
+        std::fs::set_permissions(&target, std::fs::Permissions::from_mode(0o600)).unwrap();
+        write_text(&target, "new").unwrap();
+        assert_eq!(std::fs::read_to_string(&target).unwrap(), "new");
+        assert_eq!(std::fs::metadata(&target).unwrap().permissions().mode() & 0o7777, 0o600);
+    }
+
+    #[test]
+    fn abandoned_outputs_remove_the_directories_they_made() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::create_dir(dir.path().join("kept")).unwrap();
+        let result = write_file(&dir.path().join("kept/new/deeper/a.json"), |sink| {
+            sink.write_all(b"{").unwrap();
+            Err(io_error("disk full"))
+        });
+        assert!(result.is_err());
+        assert_eq!(entries(dir.path()), ["kept"], "the directory that was there stays");
+        assert!(entries(&dir.path().join("kept")).is_empty(), "new/deeper are gone");
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn an_output_linked_to_an_input_is_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let scene = dir.path().join("scene.toml");
+        std::fs::write(&scene, "x").unwrap();
+        let hard = dir.path().join("hard.json");
+        std::fs::hard_link(&scene, &hard).unwrap();
+        let soft = dir.path().join("soft.json");
+        std::os::unix::fs::symlink(&scene, &soft).unwrap();
+        let inputs = [(scene.as_path(), "the scene file")];
+        for output in [&scene, &hard, &soft] {
+            let error = check_not_inputs([("--stats", output.as_path())], &inputs).expect_err("an input");
+            assert!(error.to_string().starts_with("--stats "), "{error}");
+            assert!(error.to_string().contains("is the scene file"), "{error}");
+        }
+        let other = dir.path().join("other.json");
+        assert!(check_not_inputs([("--stats", other.as_path())], &inputs).is_ok());
+        // A device is written in place, never replaced: no input can be lost through it.
+        let null = [(Path::new("/dev/null"), "the scene file")];
+        assert!(check_not_inputs([("-o", Path::new("/dev/null"))], &null).is_ok());
+        assert!(check_regular_input(Path::new("/dev/null"), "the part being merged")
+            .is_err_and(|e| e.contains("a character device")));
     }
 
     #[test]

@@ -14,7 +14,7 @@ pub enum OutputError {
     /// bad input, found before any work.
     #[error("{path}: {problem}")]
     Destination {
-        /// The path as given.
+        /// The path as given (after the flag that named it, where the flag helps).
         path: String,
         /// What is wrong with it.
         problem: String,

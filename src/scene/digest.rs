@@ -3,7 +3,7 @@
 //! compares these digests (a scene file is not enough: an OBJ edited between two parts changes
 //! the image).
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use sha2::{Digest, Sha256};
 
@@ -16,16 +16,25 @@ pub fn scene_digest(text: &str, path: &Path, desc: &SceneDesc) -> String {
     let mut hasher = Sha256::new();
     hasher.update((text.len() as u64).to_le_bytes());
     hasher.update(text.as_bytes());
-    for shape in &desc.shapes {
-        if let ShapeDesc::Mesh { file, .. } = &shape.get_ref().0 {
-            let obj = path.parent().unwrap_or(Path::new(".")).join(file);
-            if let Ok(bytes) = std::fs::read(obj) {
-                hasher.update((bytes.len() as u64).to_le_bytes());
-                hasher.update(&bytes);
-            }
+    for obj in mesh_files(path, desc) {
+        if let Ok(bytes) = std::fs::read(obj) {
+            hasher.update((bytes.len() as u64).to_le_bytes());
+            hasher.update(&bytes);
         }
     }
     hex(&hasher.finalize())
+}
+
+/// The mesh files the scene file at `path` loads, in the order it names them, each as the
+/// build opens it (relative to the scene file's directory).
+pub fn mesh_files(path: &Path, desc: &SceneDesc) -> Vec<PathBuf> {
+    desc.shapes
+        .iter()
+        .filter_map(|shape| match &shape.get_ref().0 {
+            ShapeDesc::Mesh { file, .. } => Some(path.parent().unwrap_or(Path::new(".")).join(file)),
+            _ => None,
+        })
+        .collect()
 }
 
 /// Lower-case hex of `bytes`.

@@ -12,6 +12,8 @@ pub mod typed;
 pub use build::{load, parse};
 pub use error::SceneError;
 
+use std::path::PathBuf;
+
 use crate::camera::Camera;
 use crate::geometry::Geometry;
 use crate::light::Light;
@@ -130,4 +132,7 @@ pub struct Scene {
     pub background: DenseSpectrum,
     /// Hex SHA-256 of the scene file and the meshes it loads ([`digest::scene_digest`]).
     pub digest: String,
+    /// The mesh files the scene loaded, as opened (relative to the scene file's directory): the
+    /// inputs besides the scene file that no output may replace.
+    pub mesh_files: Vec<PathBuf>,
 }
