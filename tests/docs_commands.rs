@@ -9,7 +9,9 @@
 //! those flags where the line has them), `validate` gets `--downsample 8 --spp 2`. What is
 //! checked: the exit code (0; 1 for `validate`, whose cases may fail at that few samples, and
 //! must with `--fault`), one-line errors, and every `out/…` file a line's comment says it writes.
-//! `scene.toml`, the docs' stand-in for the user's own scene, is a small copy of a shipped one.
+//! `scene.toml`, the docs' stand-in for the user's own scene, is `scenes/tp6_point.toml` at
+//! 800×450 and 256 samples per pixel (the sizes the docs' crops and sample ranges assume). A
+//! line that crops keeps the image's size, and one that picks samples keeps the sample count.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -66,7 +68,14 @@ fn commands(name: &str, text: &str) -> Vec<Documented> {
 /// `args` at a cost CI can pay (see the module doc).
 fn affordable(args: &[String]) -> Vec<String> {
     let mut out = Vec::new();
-    let replaced = |flag: &str| ["--width", "--height", "--spp", "--downsample"].contains(&flag);
+    // A line that picks samples keeps the render's sample count (its ranges must fit in it).
+    let keeps_spp = args.iter().any(|w| w.starts_with("--samples") || w.starts_with("--resume"));
+    // A line that crops keeps the image's size (its window must fit in it).
+    let keeps_size = args.iter().any(|w| w.starts_with("--crop") || w.starts_with("--resume"));
+    let replaced = |flag: &str| {
+        ["--width", "--height", "--downsample"].contains(&flag) && !(flag != "--downsample" && keeps_size)
+            || (flag == "--spp" && !keeps_spp)
+    };
     let mut words = args.iter();
     while let Some(word) = words.next() {
         if replaced(word) {
@@ -80,7 +89,12 @@ fn affordable(args: &[String]) -> Vec<String> {
     }
     match out.first().map(String::as_str) {
         Some("render") if !out.iter().any(|w| w == "--help") => {
-            out.extend(["--width", "48", "--height", "27", "--spp", "1"].map(String::from))
+            if !keeps_size {
+                out.extend(["--width", "48", "--height", "27"].map(String::from));
+            }
+            if !keeps_spp {
+                out.extend(["--spp", "1"].map(String::from));
+            }
         }
         Some("validate") => out.extend(["--downsample", "8", "--spp", "2"].map(String::from)),
         _ => {}
@@ -104,8 +118,16 @@ fn scratch() -> tempfile::TempDir {
             std::os::unix::fs::symlink(entry.path(), validation.join(entry.file_name())).expect("link");
         }
     }
+    // The docs' own scene: 800×450 (their crops), 256 samples per pixel (their sample ranges).
     let scene = std::fs::read_to_string(root.join("scenes/tp6_point.toml")).expect("scene");
-    std::fs::write(dir.path().join("scene.toml"), scene).expect("scene.toml");
+    let stand_in = scene
+        .replace("spp = 16", "spp = 256")
+        .replace("width = 600\nheight = 400", "width = 800\nheight = 450");
+    assert!(
+        stand_in.contains("spp = 256") && stand_in.contains("height = 450"),
+        "tp6_point.toml changed: update this stand-in"
+    );
+    std::fs::write(dir.path().join("scene.toml"), stand_in).expect("scene.toml");
     dir
 }
 
