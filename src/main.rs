@@ -8,7 +8,7 @@ mod cli;
 
 use std::process::ExitCode;
 
-use clap::Parser as _;
+use clap::{CommandFactory as _, FromArgMatches as _};
 
 fn main() -> ExitCode {
     // An interrupted command leaves no partial output: the handler removes the temporary files
@@ -17,19 +17,23 @@ fn main() -> ExitCode {
     // (`prisma::interrupt`). If the handler cannot be installed, the default action (terminate)
     // still applies.
     let _ = ctrlc::set_handler(prisma::interrupt::on_signal);
-    let args = match cli::Cli::try_parse() {
+    // Negative numbers are values, so that `--spp -4` is refused by the option's own range
+    // ("-4 is not in 1..=1048576") rather than as an unknown flag.
+    let command = cli::Cli::command()
+        .allow_negative_numbers(true)
+        .mut_subcommands(|subcommand| subcommand.allow_negative_numbers(true));
+    let parsed = command.try_get_matches().and_then(|matches| cli::Cli::from_arg_matches(&matches));
+    let args = match parsed {
         Ok(args) => args,
         // --help and --version: clap prints them to standard output.
         Err(error) if !error.use_stderr() => {
             let _ = error.print();
             return ExitCode::SUCCESS;
         }
-        // Bad arguments: clap's first line (its message), then one hint, as every other input
-        // error is one line.
+        // Bad arguments: clap's message on one line (with the names of missing arguments, which
+        // it lists on the lines below), then one hint, as every other input error is one line.
         Err(error) => {
-            let rendered = error.render().to_string();
-            let message = rendered.lines().next().unwrap_or("error: invalid arguments");
-            eprintln!("{message} (try --help)");
+            eprintln!("{} (try --help)", one_line_clap_error(&error.render().to_string()));
             return ExitCode::from(2);
         }
     };
@@ -39,5 +43,36 @@ fn main() -> ExitCode {
             eprintln!("error: {}", err.message());
             ExitCode::from(err.exit_code())
         }
+    }
+}
+
+/// Clap's rendered error as one line: its message and the lines that continue it (the missing
+/// arguments' names), without the usage and tips that follow.
+fn one_line_clap_error(rendered: &str) -> String {
+    let message: Vec<&str> = rendered
+        .lines()
+        .take_while(|line| !line.trim().is_empty() && !line.starts_with("Usage:"))
+        .map(str::trim)
+        .filter(|line| !line.starts_with("tip:"))
+        .collect();
+    match message.join(" ") {
+        joined if joined.is_empty() => "error: invalid arguments".to_owned(),
+        joined => joined,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::one_line_clap_error;
+
+    #[test]
+    fn missing_arguments_are_named_on_the_one_line() {
+        let rendered = "error: the following required arguments were not provided:\n  --output <OUT.exr>\n  <PART.exr>...\n\nUsage: prisma merge --output <OUT.exr> <PART.exr>...\n\nFor more information, try '--help'.\n";
+        assert_eq!(
+            one_line_clap_error(rendered),
+            "error: the following required arguments were not provided: --output <OUT.exr> <PART.exr>..."
+        );
+        let tip = "error: unexpected argument '-x' found\n\n  tip: to pass '-x' as a value, use '-- -x'\n\nUsage: prisma\n";
+        assert_eq!(one_line_clap_error(tip), "error: unexpected argument '-x' found");
     }
 }
