@@ -422,6 +422,37 @@ impl WindowSums {
         failed
     }
 
+    /// Zero light sums as long as these (empty without caustics): where a render keeps the
+    /// light sums of its finished passes while it traces the next ones
+    /// ([`Self::swap_light`]).
+    pub fn zero_light(&self) -> Vec<FixedSum> {
+        filled_on_huge_pages(FixedSum::ZERO, self.light.len())
+    }
+
+    /// Exchanges the light sums with `other` (as long: [`Self::zero_light`]). A render sets the
+    /// sums of its finished passes aside this way while the light paths of the next ones are
+    /// added, so that a pass abandoned halfway (Ctrl-C) leaves no trace in what it writes
+    /// ([`crate::render`]).
+    ///
+    /// # Panics
+    /// If `other` is not as long as the light sums.
+    pub fn swap_light(&mut self, other: &mut Vec<FixedSum>) {
+        assert_eq!(self.light.len(), other.len(), "light sums of another size");
+        std::mem::swap(&mut self.light, other);
+    }
+
+    /// Adds `light`, sums of these light sums' window and layout (set aside by
+    /// [`Self::swap_light`]), to the light sums. Errors name the first pixel whose sum
+    /// overflows.
+    ///
+    /// # Panics
+    /// If `light` is not as long as the light sums.
+    pub fn add_light(&mut self, light: &[FixedSum]) -> Result<(), SumOverflow> {
+        assert_eq!(self.light.len(), light.len(), "light sums of another size");
+        let stride = self.light_stride();
+        self.add_with(self.window, true, |pixel, slot| light[pixel * stride + slot])
+    }
+
     /// Adds `other`, whose window must lie inside this one and whose layout and light sums
     /// must match (checked by the caller: parts of one render), except that light sums of S0
     /// alone add to full ones. Errors name the first pixel whose sum overflows.

@@ -2,14 +2,15 @@
 //!
 //! Normally the process is abandoned: [`crate::output::file::abandon_and_exit`] removes the
 //! outputs being written, and the process exits with 130. While a render that can stop early
-//! runs ([`accept_stops`]), the first signal only asks it to stop at the end of the sample block
-//! in progress ([`stop_requested`]): it then writes what it has as a part and exits non-zero. A
-//! second signal abandons it as above. (Two atomics are the one piece of global state here: a
+//! runs ([`accept_stops`]), the first signal only asks it to stop ([`stop_requested`]): at the
+//! end of the camera samples of the sample block in progress, or within a light-tracing block
+//! of 512 paths, abandoning the block's passes (a part holds whole passes); it then writes the
+//! samples done as a part and exits non-zero. A second signal abandons it as above. (Two atomics are the one piece of global state here: a
 //! signal handler has no other way to reach a render.)
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
-/// A render is running that stops at a block boundary when asked.
+/// A render is running that stops when asked.
 static ACCEPTING: AtomicBool = AtomicBool::new(false);
 /// A stop was asked for.
 static REQUESTED: AtomicBool = AtomicBool::new(false);
@@ -19,8 +20,8 @@ static REQUESTED: AtomicBool = AtomicBool::new(false);
 pub fn on_signal() {
     if ACCEPTING.load(Ordering::SeqCst) && !REQUESTED.swap(true, Ordering::SeqCst) {
         eprintln!(
-            "\ninterrupted: stopping at the end of the current sample block to write what is done \
-             (interrupt again to abandon it)"
+            "\ninterrupted: stopping to write the samples done (light passes in progress are \
+             abandoned; interrupt again to abandon it all)"
         );
         return;
     }

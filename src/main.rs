@@ -13,7 +13,7 @@ use clap::{CommandFactory as _, FromArgMatches as _};
 fn main() -> ExitCode {
     // An interrupted command leaves no partial output: the handler removes the temporary files
     // being written (the finished outputs are renamed into place atomically) and exits; a render
-    // is first asked to stop at its next sample block and write what it has as a part
+    // is first asked to stop (abandoning a light pass in progress) and write what it has as a part
     // (`prisma::interrupt`). If the handler cannot be installed, the default action (terminate)
     // still applies.
     let _ = ctrlc::set_handler(prisma::interrupt::on_signal);

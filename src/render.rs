@@ -25,6 +25,13 @@
 //! pass that starts or ends inside a block traces only its own paths of it.
 //! Their splats are summed exactly like camera samples; splats outside the window are dropped.
 //! The light sums divided by the number of light paths are added to the camera means.
+//!
+//! A sample block traces its light passes before its camera samples, into zero light sums
+//! while those of the blocks done are set aside ([`WindowSums::swap_light`]), and adds these
+//! back when the block is whole. A stop within a pass (a pass of 2^31 paths takes hours) thus
+//! skips the light-path blocks not yet started, drops the block's light sums and ends the
+//! render at the samples done: a part holds whole passes. The camera samples of a block are
+//! not interrupted.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Mutex;
@@ -57,6 +64,12 @@ const THREAD_STACK_BYTES: usize = 64 << 20;
 /// (least, first quartile, median of 30 alternating runs) against 5.5 / 6.43 / 7.0 with 512. The
 /// image is the same bits whatever the block (exact sums).
 pub const LIGHT_PATH_BLOCK: u64 = 512;
+/// Light-path blocks handed to the pool at a time ([`light_block`]): a pass iterates ranges of
+/// this many, never a list of all its blocks. Enough that the threads wait for each other at
+/// the end of a chunk rarely (at most once per 2,097,152 paths; smaller passes are one chunk,
+/// scheduled as before), few enough that skipping the rest of a chunk after a stop is
+/// instantaneous.
+const LIGHT_BLOCKS_PER_CHUNK: u64 = 4096;
 /// Mixed into the seed of the light paths' sample sequences, so that they are independent of
 /// the camera samples'.
 const LIGHT_PATH_SEED_SALT: u64 = 0x6c69_6768_7470_6174;
@@ -174,7 +187,12 @@ pub enum RenderError {
 
 /// Bytes of memory a render of `width`×`height` pixels of `layout` on `threads` threads needs, with its
 /// EXR and PNG output ([`memory::estimate`]), and its exact sums: the camera's, the light
-/// tracer's of `light` (if any), and as much again for a part file's channels.
+/// tracer's of `light` (if any), and as much again for a part file's channels; with light
+/// sums, once more for those of the blocks done, set aside while a block's light passes are
+/// traced ([`WindowSums::swap_light`]). A pass holds nothing per light path: its blocks are
+/// ranges, not a list, each thread's splats are one block's, and the guide's record
+/// is of at most [`guide::MAX_LEARNING_PATHS`] paths (a few hundred kB, within the fixed costs'
+/// margin).
 pub fn memory_needed(
     width: u32,
     height: u32,
@@ -182,9 +200,9 @@ pub fn memory_needed(
     threads: usize,
     light: Option<&FilmLayout>,
 ) -> u64 {
-    let values = layout.values_per_pixel() + light.map_or(0, FilmLayout::values_per_pixel);
-    let sums =
-        u64::from(width) * u64::from(height) * values as u64 * std::mem::size_of::<FixedSum>() as u64 * 2;
+    let light_values = light.map_or(0, FilmLayout::values_per_pixel) as u64;
+    let values = (layout.values_per_pixel() as u64 + light_values) * 2 + light_values;
+    let sums = u64::from(width) * u64::from(height) * values * std::mem::size_of::<FixedSum>() as u64;
     memory::estimate(width, height, layout.band_values(), threads as u64 * THREAD_STACK_BYTES as u64) + sums
 }
 
@@ -283,6 +301,7 @@ pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
     let start = Instant::now();
     let mut light = LightPasses::new(tracer, job, light_paths_per_pass);
     let mut light_elapsed = Duration::ZERO;
+    let mut interrupted = false;
     // A part whose first samples do not hold the learning paths learns from them first.
     if light.learning_paths > 0
         && !samples
@@ -293,7 +312,7 @@ pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
         let learning = 0..light.learning_paths;
         let hidden = ProgressBar::hidden();
         let run = LightRun { pool: &pool, job, display: (width, height), progress: &hidden };
-        light.trace(&run, None, learning)?;
+        interrupted = light.trace(&run, None, learning)?.is_none();
         light_elapsed = start.elapsed();
     }
     // Edge refinement needs the first pass: from the sums right after it when this render
@@ -307,9 +326,10 @@ pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
         Some(light_layout) => WindowSums::with_light_layout(window, layout, light_layout),
         None => WindowSums::new(window, layout, false),
     };
+    // The light sums of the blocks done, set aside while a block's passes add to `sums`.
+    let mut light_done = sums.zero_light();
     // Blocks go through the samples in order: the first `done` of them are done.
     let mut done = 0u64;
-    let mut interrupted = false;
     let mut rays = 0;
     let mut light_rays = 0;
     let finished = AtomicBool::new(false);
@@ -325,12 +345,33 @@ pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
             for range in samples.ranges() {
                 let mut first = range.start;
                 while first < range.end {
-                    if crate::interrupt::stop_requested() || job.stop_after_blocks == Some(blocks) {
+                    if interrupted
+                        || crate::interrupt::stop_requested()
+                        || job.stop_after_blocks == Some(blocks)
+                    {
                         interrupted = true;
                         return Ok(());
                     }
                     let end = range.end.min(first.saturating_add(block_len));
                     let block_start = Instant::now();
+                    let paths =
+                        u64::from(first) * light_paths_per_pass..u64::from(end) * light_paths_per_pass;
+                    if light_paths_per_pass > 0 {
+                        // The block's light passes first, into zero light sums, the passes done
+                        // set aside: a stop abandons them halfway and restores those (a part
+                        // holds whole passes). The paths that teach the guide come first, then
+                        // the rest, by the guide.
+                        let light_start = Instant::now();
+                        sums.swap_light(&mut light_done);
+                        let traced = light.trace(&light_run, Some(&mut sums), paths.clone())?;
+                        light_elapsed += light_start.elapsed();
+                        let Some(traced_rays) = traced else {
+                            sums.swap_light(&mut light_done);
+                            interrupted = true;
+                            return Ok(());
+                        };
+                        light_rays += traced_rays;
+                    }
                     let (block_rays, failed) = pool.install(|| {
                         camera_block(scene, &integrator, job, &edges, &mut sums, first..end, &progress)
                     });
@@ -338,27 +379,10 @@ pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
                     if let Some((x, y)) = failed {
                         return Err(not_summable(x, y));
                     }
-                    let paths =
-                        u64::from(first) * light_paths_per_pass..u64::from(end) * light_paths_per_pass;
-                    if light_paths_per_pass > 0 {
-                        // The paths that teach the guide first (if the block holds any) ...
-                        let light_start = Instant::now();
-                        light_rays += light.trace_learning(&light_run, Some(&mut sums), &paths)?;
-                        light_elapsed += light_start.elapsed();
-                    }
                     if refine && first == 0 {
-                        // ... then the edge map from the first pass in the sums, while the guide
-                        // learns (each on one thread: neither has work for two), and the first
-                        // pass of the edge pixels completed with their samples per pass.
-                        let first_pass = &sums;
-                        let light = &mut light;
-                        edges = pool.install(|| {
-                            rayon::join(
-                                || find_edges(scene, &integrator, job, Some(first_pass)),
-                                || light.learn_after(paths.end, (width, height)),
-                            )
-                            .0
-                        });
+                        // The edge map from the first pass in the camera sums, and the first pass
+                        // of the edge pixels completed with their samples per pass.
+                        edges = pool.install(|| find_edges(scene, &integrator, job, Some(&sums)));
                         let (completing_rays, failed) =
                             pool.install(|| complete_first_pass(scene, &integrator, job, &edges, &mut sums));
                         rays += completing_rays;
@@ -367,11 +391,10 @@ pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
                         }
                     }
                     if light_paths_per_pass > 0 {
-                        // ... and the rest of the block's light paths, by the guide.
-                        let light_start = Instant::now();
-                        light.learn_after(paths.end, (width, height));
-                        light_rays += light.trace_guided(&light_run, Some(&mut sums), &paths)?;
-                        light_elapsed += light_start.elapsed();
+                        // The block is whole: the passes done join its light.
+                        sums.add_light(&light_done)
+                            .map_err(|overflow| not_summable(overflow.x, overflow.y))?;
+                        light_done.fill(FixedSum::ZERO);
                     }
                     done += u64::from(end - first);
                     blocks += 1;
@@ -645,50 +668,55 @@ impl<'a> LightPasses<'a> {
     }
 
     /// Traces the light paths `paths` (adding their splats to `sums`, unless `None`): the
-    /// light tracer's rays.
+    /// light tracer's rays, or `None` when a stop cut them short ([`light_block`]).
     fn trace(
         &mut self,
         run: &LightRun,
         mut sums: Option<&mut WindowSums>,
         paths: std::ops::Range<u64>,
-    ) -> Result<u64, RenderError> {
-        let rays = self.trace_learning(run, sums.as_deref_mut(), &paths)?;
+    ) -> Result<Option<u64>, RenderError> {
+        let Some(rays) = self.trace_learning(run, sums.as_deref_mut(), &paths)? else {
+            return Ok(None);
+        };
         self.learn_after(paths.end, run.display);
-        Ok(rays + self.trace_guided(run, sums, &paths)?)
+        Ok(self.trace_guided(run, sums, &paths)?.map(|guided| rays + guided))
     }
 
     /// Traces the learning paths among `paths` (uniformly, recorded for the guide unless it is
-    /// learned already: a part that learned first): the rays.
+    /// learned already: a part that learned first): the rays, or `None` when a stop cut them
+    /// short (and nothing was recorded).
     fn trace_learning(
         &mut self,
         run: &LightRun,
         sums: Option<&mut WindowSums>,
         paths: &std::ops::Range<u64>,
-    ) -> Result<u64, RenderError> {
+    ) -> Result<Option<u64>, RenderError> {
         let learning = paths.start..paths.end.min(self.learning_paths);
         if learning.is_empty() {
-            return Ok(0);
+            return Ok(Some(0));
         }
-        let (rays, record) =
-            light_block(run, &self.uniform, self.weights, sums, learning, self.guided.is_none())?;
-        self.record.append(record);
-        Ok(rays)
+        let traced = light_block(run, &self.uniform, self.weights, sums, learning, self.guided.is_none())?;
+        Ok(traced.map(|(rays, record)| {
+            self.record.append(record);
+            rays
+        }))
     }
 
     /// Traces the paths among `paths` past the learning paths, by the guide once learned
-    /// ([`Self::learn_after`]; uniformly without one): the rays.
+    /// ([`Self::learn_after`]; uniformly without one): the rays, or `None` when a stop cut
+    /// them short.
     fn trace_guided(
         &self,
         run: &LightRun,
         sums: Option<&mut WindowSums>,
         paths: &std::ops::Range<u64>,
-    ) -> Result<u64, RenderError> {
+    ) -> Result<Option<u64>, RenderError> {
         let rest = paths.start.max(self.learning_paths)..paths.end;
         if rest.is_empty() {
-            return Ok(0);
+            return Ok(Some(0));
         }
         let tracer = self.guided.as_ref().unwrap_or(&self.uniform);
-        Ok(light_block(run, tracer, self.weights, sums, rest, false)?.0)
+        Ok(light_block(run, tracer, self.weights, sums, rest, false)?.map(|(rays, _)| rays))
     }
 }
 
@@ -703,7 +731,12 @@ struct LightRun<'r> {
 
 /// Traces the light paths `paths` in blocks on `run`'s pool and adds their splats in the window to
 /// `sums` (unless `None`): the rays cast, and when `record` the paths' record for learning a
-/// guide (in path order; [`guide::Record`]).
+/// guide (in path order; [`guide::Record`]); `None` when a stop ([`crate::interrupt`]) came
+/// first: then only some of the blocks were traced, and the caller abandons what they added.
+///
+/// The blocks are handed to the pool [`LIGHT_BLOCKS_PER_CHUNK`] at a time, as ranges (a pass
+/// of 2^40 paths is 2^31 blocks: their list alone would be 17 GB), and a block whose turn comes
+/// after a stop is skipped, so a stop waits for one block per thread.
 ///
 /// Each block's splats are added to `sums` (unless `None`) by the thread that traced it, as soon
 /// as it is done, under a lock: exact sums do not depend on the order of their terms, so the
@@ -718,38 +751,53 @@ fn light_block(
     sums: Option<&mut WindowSums>,
     paths: std::ops::Range<u64>,
     record: bool,
-) -> Result<(u64, guide::Record), RenderError> {
+) -> Result<Option<(u64, guide::Record)>, RenderError> {
     let LightRun { pool, job, display: (display_width, _), progress } = *run;
     let layout = tracer.splat_layout(&job.layout());
     let first_block = paths.start / LIGHT_PATH_BLOCK;
     let end_block = paths.end.div_ceil(LIGHT_PATH_BLOCK);
     let shared = Mutex::new(LightSums { sums, rays: 0, failed: None, records: Vec::new() });
-    let blocks: Vec<u64> = (first_block..end_block).collect();
+    let trace = |block: u64| {
+        if crate::interrupt::stop_requested() {
+            return;
+        }
+        let first = paths.start.max(block * LIGHT_PATH_BLOCK);
+        let end = paths.end.min((block + 1) * LIGHT_PATH_BLOCK);
+        let (splats, stats, block_record) = if job.polarized() {
+            trace_block::<Stokes>(tracer, job, &layout, weights, first..end, record)
+        } else {
+            trace_block::<SampledSpectrum>(tracer, job, &layout, weights, first..end, record)
+        };
+        // A panic elsewhere poisons the lock; the sums it guards are still whole.
+        let mut shared = shared.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        if let Some(pixel) = shared.sums.as_mut().and_then(|sums| sums.add_splats(&splats, display_width)) {
+            if shared.failed.is_none_or(|(earliest, _)| block < earliest) {
+                shared.failed = Some((block, pixel));
+            }
+        }
+        shared.rays += stats.rays;
+        if let Some(block_record) = block_record {
+            shared.records.push((block, block_record));
+        }
+        drop(shared);
+        progress.inc(end - first);
+    };
     pool.install(|| {
-        blocks.par_iter().with_max_len(1).for_each(|&block| {
-            let first = paths.start.max(block * LIGHT_PATH_BLOCK);
-            let end = paths.end.min((block + 1) * LIGHT_PATH_BLOCK);
-            let (splats, stats, block_record) = if job.polarized() {
-                trace_block::<Stokes>(tracer, job, &layout, weights, first..end, record)
-            } else {
-                trace_block::<SampledSpectrum>(tracer, job, &layout, weights, first..end, record)
-            };
-            // A panic elsewhere poisons the lock; the sums it guards are still whole.
-            let mut shared = shared.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
-            if let Some(pixel) = shared.sums.as_mut().and_then(|sums| sums.add_splats(&splats, display_width))
-            {
-                if shared.failed.is_none_or(|(earliest, _)| block < earliest) {
-                    shared.failed = Some((block, pixel));
-                }
-            }
-            shared.rays += stats.rays;
-            if let Some(block_record) = block_record {
-                shared.records.push((block, block_record));
-            }
-            drop(shared);
-            progress.inc(end - first);
-        });
+        let mut chunk_start = first_block;
+        while chunk_start < end_block && !crate::interrupt::stop_requested() {
+            let chunk_len = (end_block - chunk_start).min(LIGHT_BLOCKS_PER_CHUNK);
+            // A chunk holds at most LIGHT_BLOCKS_PER_CHUNK blocks: its offsets fit in usize.
+            (0..chunk_len as usize)
+                .into_par_iter()
+                .with_max_len(1)
+                .for_each(|k| trace(chunk_start + k as u64));
+            chunk_start += chunk_len;
+        }
     });
+    // A stop is never withdrawn while the render runs: after this check, no block was skipped.
+    if crate::interrupt::stop_requested() {
+        return Ok(None);
+    }
     let mut shared = shared.into_inner().unwrap_or_else(std::sync::PoisonError::into_inner);
     if let Some((_, (x, y))) = shared.failed {
         return Err(not_summable(x, y));
@@ -760,7 +808,7 @@ fn light_block(
     for (_, block_record) in shared.records {
         all.append(block_record);
     }
-    Ok((shared.rays, all))
+    Ok(Some((shared.rays, all)))
 }
 
 /// What the light tracer's blocks add to, shared between the render threads.

@@ -226,7 +226,7 @@ fn sigint_stops_a_render_at_a_block_boundary_and_keeps_its_samples() {
     let output = child.wait_with_output().unwrap();
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert_eq!(output.status.code(), Some(130), "{stderr}");
-    assert!(stderr.contains("stopping at the end of the current sample block"), "{stderr}");
+    assert!(stderr.contains("interrupted: stopping to write the samples done"), "{stderr}");
     let partial = dir.path().join("long.partial.exr");
     let samples = info(&partial, "samples");
     let count: u32 = samples.strip_prefix("0..").and_then(|n| n.parse().ok()).expect("0..N");

@@ -516,7 +516,14 @@ fn spectral_bands(count: Option<u32>, range: Option<&str>) -> anyhow::Result<Opt
             "--spectral-range must satisfy {LAMBDA_MIN_NM} ≤ MIN < MAX ≤ {LAMBDA_MAX_NM} nm, got {min_nm}-{max_nm}"
         ));
     }
-    Ok(Some(SpectralBands { count: count as usize, min_nm, max_nm }))
+    let bands = SpectralBands { count: count as usize, min_nm, max_nm };
+    if let Some((first, second, name)) = prisma::output::exr::shared_band_name(&bands) {
+        return Err(anyhow!(
+            "--spectral-bands {count} over --spectral-range {min_nm}-{max_nm}: bands {first} and {second} would both be \
+             channel {name} (centres closer than 0.000001 nm); use fewer bands or a wider range"
+        ));
+    }
+    Ok(Some(bands))
 }
 
 /// The files a render writes, checked before it starts.

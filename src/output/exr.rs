@@ -43,6 +43,18 @@ pub fn spectral_channel_name(k: usize, lambda_nm: f32) -> String {
     format!("S{k}.{}nm", format!("{lambda_nm:.6}").replace('.', ","))
 }
 
+/// The first two bands of `bands` (by number) whose channels would have the same name (centres
+/// closer than the names' 10⁻⁶ nm, or equal in f32), with that name: bands that EXR cannot
+/// store, refused before rendering. Names of S0, as the writer makes them; S1–S3's differ from
+/// each other exactly when S0's do.
+pub fn shared_band_name(bands: &crate::film::SpectralBands) -> Option<(usize, usize, String)> {
+    let mut seen = std::collections::HashMap::new();
+    (0..bands.count).find_map(|band| {
+        let name = spectral_channel_name(0, bands.center_nm(band));
+        seen.insert(name.clone(), band).map(|earlier| (earlier, band, name))
+    })
+}
+
 /// Writes `film` to an EXR file at `path` (the layout is in the module documentation).
 pub fn write_exr(path: &Path, film: &Film) -> Result<(), OutputError> {
     write_file(path, |sink| encode_exr(sink, path, film))

@@ -22,6 +22,16 @@
 //!   inside it, and (1 − R)/n² ≈ 4/n entering a medium of n ≪ 1 at normal incidence; both stay
 //!   below 10⁴ per interface.
 //!
+//! - **Not checked: precision far from the origin.** Positions are f32 in world coordinates,
+//!   spaced M·2⁻²³ at distance M (1 unit at 10⁷), and spawned rays are offset by a few such
+//!   spacings ([`crate::geometry::offset`]), so a shape small against that spacing renders
+//!   wrongly and silently: a camera inside a radius-1 glass sphere (n = 1.5) at
+//!   (10⁷, 10⁷, 10⁷) sees 2.20 × the background instead of n² = 2.25 (issue 37), as its
+//!   internal reflections leave through the sphere. A fix that would hold is camera-relative
+//!   coordinates (translating the scene by the camera position in f64 at build), which moves
+//!   every render's bits and the validation references with them; until then scenes/README.md
+//!   ("Limits") tells users to keep the scene near the origin.
+//!
 //! What the limits cannot bound (a point light a hair's breadth from a surface, I/d²; radiance
 //! gains stacking over hundreds of one-sided glass exits) is caught after the render by
 //! [`crate::film::Film::check_finite`], which names the pixel.
