@@ -194,7 +194,12 @@ fn parse_settings(text: &str) -> Result<(RenderSettings, FilmLayout, u64), Strin
                     b.min_nm, b.max_nm
                 ));
             }
-            Some(SpectralBands { count: b.count as usize, min_nm: b.min_nm as f32, max_nm: b.max_nm as f32 })
+            let bands =
+                SpectralBands { count: b.count as usize, min_nm: b.min_nm as f32, max_nm: b.max_nm as f32 };
+            if let Some((first, second, name)) = crate::output::exr::shared_band_name(&bands) {
+                return Err(format!("spectral_bands {first} and {second} would both be channel {name}"));
+            }
+            Some(bands)
         }
     };
     if let Some(nm) = record.monochromatic_nm.filter(|&nm| !visible(nm)) {
