@@ -25,6 +25,10 @@ pub fn on_signal() {
         );
         return;
     }
+    eprintln!(
+        "\ninterrupted{}: abandoning the outputs being written; nothing more is written",
+        if REQUESTED.load(Ordering::SeqCst) { " again" } else { "" }
+    );
     crate::output::file::abandon_and_exit(130);
 }
 

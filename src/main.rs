@@ -40,7 +40,11 @@ fn main() -> ExitCode {
     match cli::run(args) {
         Ok(()) => ExitCode::SUCCESS,
         Err(err) => {
-            eprintln!("error: {}", err.message());
+            // An interrupted render says what it wrote: not an error of the user's.
+            match err.exit_code() {
+                130 => eprintln!("{}", err.message()),
+                _ => eprintln!("error: {}", err.message()),
+            }
             ExitCode::from(err.exit_code())
         }
     }

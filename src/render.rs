@@ -337,7 +337,9 @@ pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
     let result: Result<(), RenderError> = std::thread::scope(|scope| {
         let logger = job.progress_log.map(|every| {
             let (progress, finished) = (&progress, &finished);
-            scope.spawn(move || log_progress(progress, every, finished, start))
+            let unit =
+                if light_paths_per_pass > 0 { "camera samples and light paths" } else { "camera samples" };
+            scope.spawn(move || log_progress(progress, every, finished, start, unit))
         });
         let result = (|| {
             let mut blocks = 0;
@@ -442,7 +444,7 @@ fn not_summable(x: u32, y: u32) -> RenderError {
 /// Prints a line of progress with the time left after the first [`FIRST_PROGRESS_LOG`] (so that
 /// even a short part's log says how long it expects to take), then every `every`, until
 /// `finished`.
-fn log_progress(progress: &ProgressBar, every: Duration, finished: &AtomicBool, start: Instant) {
+fn log_progress(progress: &ProgressBar, every: Duration, finished: &AtomicBool, start: Instant, unit: &str) {
     let mut next = FIRST_PROGRESS_LOG.min(every);
     while !finished.load(Ordering::SeqCst) {
         // Unparked when the render finishes (a wake-up without it just loops).
@@ -458,7 +460,7 @@ fn log_progress(progress: &ProgressBar, every: Duration, finished: &AtomicBool, 
         let elapsed = start.elapsed().as_secs_f64();
         let left = if done > 0 { elapsed * (total - done.min(total)) as f64 / done as f64 } else { f64::NAN };
         eprintln!(
-            "progress: {:.1}% ({done} of {total} samples and light paths), {} elapsed, about {} left",
+            "progress: {:.1}% ({done} of {total} {unit}), {} elapsed, about {} left",
             100.0 * done as f64 / total as f64,
             clock(elapsed),
             if left.is_finite() { clock(left) } else { "?".to_owned() }

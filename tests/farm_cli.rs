@@ -55,6 +55,7 @@ fn parts_merge_into_the_single_render_and_info_tells_what_they_are() {
     let summary = ok(&[
         "merge",
         "--complete",
+        "--keep-sums",
         c.to_str().unwrap(),
         a.to_str().unwrap(),
         b.to_str().unwrap(),
@@ -286,7 +287,16 @@ fn monochromatic_caustic_parts_merge_into_the_single_render() {
     let c = render("c.exr", &["--samples", "1..4", "--crop", "0,9,32,24", "--threads", "1"]);
     let merged = dir.path().join("merged.exr");
     let paths = [&c, &a, &b].map(|p| p.to_str().unwrap().to_owned());
-    ok(&["merge", "--complete", &paths[0], &paths[1], &paths[2], "-o", merged.to_str().unwrap()]);
+    ok(&[
+        "merge",
+        "--complete",
+        "--keep-sums",
+        &paths[0],
+        &paths[1],
+        &paths[2],
+        "-o",
+        merged.to_str().unwrap(),
+    ]);
     for key in ["imageSha256", "sumsBlake3", "samples"] {
         assert_eq!(info(&merged, key), info(&single, key), "{key}");
     }
@@ -339,4 +349,94 @@ fn a_polarised_caustic_render_resumes_into_the_single_render() {
     for key in ["imageSha256", "sumsBlake3"] {
         assert_eq!(info(&resumed, key), info(&whole, key), "{key}");
     }
+}
+
+/// A complete merge is the finished image: written as a render writes one (no sums, a PNG
+/// preview beside it), with the single render's pixels; `--keep-sums` keeps the sums (the file
+/// then merges and resumes again). Before, every merge wrote a part of sums (79 MB for the
+/// showcase) and no preview.
+#[test]
+fn a_complete_merge_writes_the_finished_image_and_its_preview() {
+    let dir = tempfile::tempdir().unwrap();
+    let single = render(dir.path(), "single.exr", &[]);
+    let a = render(dir.path(), "a.exr", &["--samples", "0..2"]);
+    let b = render(dir.path(), "b.exr", &["--samples", "2..6"]);
+    let (a, b) = (a.to_str().unwrap(), b.to_str().unwrap());
+    let final_exr = dir.path().join("final.exr");
+    let said = ok(&["merge", a, b, "--complete", "-o", final_exr.to_str().unwrap()]);
+    assert!(said.contains("final.png") && said.contains("the finished image"), "{said}");
+    assert!(dir.path().join("final.png").exists(), "no preview");
+    assert_eq!(info(&final_exr, "imageSha256"), info(&single, "imageSha256"));
+    let text = ok(&["info", final_exr.to_str().unwrap()]);
+    assert!(!text.contains("sumsFormat") && text.contains("0 of sums"), "{text}");
+    assert!(std::fs::metadata(&final_exr).unwrap().len() < std::fs::metadata(a).unwrap().len());
+    let kept = dir.path().join("kept.exr");
+    ok(&[
+        "merge",
+        a,
+        b,
+        "--complete",
+        "--keep-sums",
+        "--preview",
+        dir.path().join("k.png").to_str().unwrap(),
+        "-o",
+        kept.to_str().unwrap(),
+    ]);
+    assert_eq!(info(&kept, "samples"), "0..6");
+    assert!(dir.path().join("k.png").exists());
+    assert!(!dir.path().join("kept.png").exists());
+    // A merge short of the whole render stays a part, so that it can be merged again.
+    let partial = dir.path().join("partial.exr");
+    let said = ok(&["merge", a, "-o", partial.to_str().unwrap()]);
+    assert!(said.contains("a part, with its sums"), "{said}");
+    assert!(ok(&["info", partial.to_str().unwrap()]).contains("sumsFormat"));
+    refused(&["merge", a, b, "--keep-sums", "-o", partial.to_str().unwrap()], "--complete");
+}
+
+/// A render resumed from its own `OUT.partial.exr` into `OUT.exr` removes the partial file once
+/// every sample is in the output, and says so; a part resumed into another name is left alone.
+#[test]
+fn a_finished_resume_removes_its_own_partial_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("image.exr");
+    let interrupted = Command::new(env!("CARGO_BIN_EXE_prisma"))
+        .args(["render", SCENE, "--width", "48", "--height", "27", "--spp", "6", "-o", out.to_str().unwrap()])
+        .env("PRISMA_TEST_STOP_AFTER_BLOCKS", "1")
+        .output()
+        .unwrap();
+    assert_eq!(interrupted.status.code(), Some(130));
+    let stderr = String::from_utf8_lossy(&interrupted.stderr);
+    assert!(!stderr.contains("error:"), "an interrupt is not an error: {stderr}");
+    let partial = dir.path().join("image.partial.exr");
+    let copy = dir.path().join("copy.exr");
+    std::fs::copy(&partial, &copy).unwrap();
+    let said = ok(&[
+        "render",
+        SCENE,
+        "--width",
+        "48",
+        "--height",
+        "27",
+        "--resume",
+        partial.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(said.contains("removed") && !partial.exists(), "{said}");
+    assert_eq!(info(&out, "samples"), "0..6");
+    let other = dir.path().join("other.exr");
+    ok(&[
+        "render",
+        SCENE,
+        "--width",
+        "48",
+        "--height",
+        "27",
+        "-q",
+        "--resume",
+        copy.to_str().unwrap(),
+        "-o",
+        other.to_str().unwrap(),
+    ]);
+    assert!(copy.exists(), "a part resumed into another name is kept");
 }

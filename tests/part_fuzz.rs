@@ -267,7 +267,7 @@ fn check_cli(
     let _ = std::fs::remove_file(&out);
     let binary = env!("CARGO_BIN_EXE_prisma");
     let merge = format!(
-        "ulimit -v 2000000; exec timeout 60 '{binary}' merge '{}' '{}' --complete -q -o '{}'",
+        "ulimit -v 2000000; exec timeout 60 '{binary}' merge '{}' '{}' --complete --keep-sums -q -o '{}'",
         mutant.display(),
         other.display(),
         out.display()

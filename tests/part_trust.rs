@@ -290,7 +290,7 @@ fn intact_parts_still_merge_bit_for_bit() {
         let info = run(&["info", file], d);
         assert!(info.status.success(), "{info:?}");
         let text = String::from_utf8_lossy(&info.stdout).into_owned();
-        assert!(text.contains("header: matches its digest, and the sums theirs"), "{text}");
+        assert!(text.contains("header: matches its digest"), "{text}");
         text.lines().find(|l| l.starts_with("imageSha256")).expect("digest line").to_owned()
     };
     assert_eq!(digest("m.exr"), digest("whole.exr"));

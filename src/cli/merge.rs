@@ -1,14 +1,21 @@
 //! `prisma merge`: parts of a split render (sample ranges, crops, interrupted and resumed runs)
-//! added into one EXR, bit-identical to the single render of their union ([`prisma::part`]).
+//! added into one EXR, bit-identical to the single render of their union ([`prisma::part`]),
+//! with a PNG preview beside it as a render has.
+//!
+//! The merged EXR keeps the exact sums (it is a part: it can be merged again or resumed),
+//! except with `--complete`, where it is the finished image and is written as a render writes
+//! one (image channels and provenance, a tenth of the size) unless `--keep-sums`.
 
 use std::path::PathBuf;
 
 use anyhow::{anyhow, Context};
 use clap::Args;
 
+use super::destinations::Destinations;
 use super::{say, CliError};
 use prisma::output::exr::encode_exr_part;
-use prisma::output::file::{check_destination, check_not_inputs, check_regular_input, same_file, Outputs};
+use prisma::output::file::{check_not_inputs, check_regular_input, same_file, Outputs};
+use prisma::output::png::encode_png;
 use prisma::part::merge_files;
 
 /// Arguments of `prisma merge`.
@@ -18,12 +25,23 @@ pub struct MergeArgs {
     /// by an interrupted render, in any order.
     #[arg(required = true, value_name = "PART.exr")]
     parts: Vec<PathBuf>,
-    /// The merged EXR (itself a part: it can be merged again or resumed).
+    /// The merged EXR: a part (it can be merged again or resumed), or with --complete the
+    /// finished image.
     #[arg(short, long, value_name = "OUT.exr")]
     output: PathBuf,
-    /// Refuse unless the parts make the whole render: every pixel, samples 0..spp.
+    /// PNG preview path [default: the EXR path with a .png extension].
+    #[arg(long, value_name = "OUT.png")]
+    preview: Option<PathBuf>,
+    /// Exposure of the PNG preview in stops (the EXR is never scaled).
+    #[arg(long, default_value_t = 0.0, value_name = "STOPS", allow_negative_numbers = true)]
+    exposure: f32,
+    /// Refuse unless the parts make the whole render (every pixel, samples 0..spp), and write
+    /// the finished image without the per-pixel sums.
     #[arg(long)]
     complete: bool,
+    /// With --complete, keep the per-pixel sums too (to add samples later with --resume).
+    #[arg(long, requires = "complete")]
+    keep_sums: bool,
     /// Do not print the summary.
     #[arg(short, long)]
     quiet: bool,
@@ -32,19 +50,13 @@ pub struct MergeArgs {
 /// Runs `prisma merge`.
 pub fn run(args: &MergeArgs) -> Result<(), CliError> {
     let input = CliError::Input;
-    check_destination(&args.output).map_err(|e| input(e.into()))?;
-    if !args.output.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr")) {
-        return Err(input(anyhow!(
-            "-o {}: the merged image is an EXR, so its name must end in .exr",
-            args.output.display()
-        )));
-    }
+    let destinations = Destinations::check(&args.output, args.preview.as_deref(), None)?;
     for path in &args.parts {
         check_regular_input(path, "the part being merged").map_err(|e| input(anyhow!(e)))?;
     }
     let parts: Vec<(&std::path::Path, &str)> =
         args.parts.iter().map(|part| (part.as_path(), "the part being merged")).collect();
-    check_not_inputs([("-o", args.output.as_path())], &parts).map_err(|e| input(e.into()))?;
+    check_not_inputs(destinations.named(), &parts).map_err(|e| input(e.into()))?;
     for (i, path) in args.parts.iter().enumerate() {
         if args.parts[..i].iter().any(|earlier| same_file(earlier, path)) {
             return Err(input(anyhow!("{}: given twice (its samples would count twice)", path.display())));
@@ -55,24 +67,32 @@ pub fn run(args: &MergeArgs) -> Result<(), CliError> {
     let header = &merged.header;
     let film = merged.sums.film(header.samples.len(), header.light_paths_per_pass, header.display);
     film.check_finite().map_err(|e| input(anyhow::Error::from(e).context("the merged image")))?;
+    let sums = (!args.complete || args.keep_sums).then_some(&merged.sums);
+    let rgb = film.linear_srgb();
+    let (width, height) = (header.window.width(), header.window.height());
     let mut outputs = Outputs::new();
     outputs
-        .stage(&args.output, |sink| {
-            encode_exr_part(sink, &args.output, &film, Some(header), Some(&merged.sums))
+        .stage(&destinations.exr, |sink| encode_exr_part(sink, &destinations.exr, &film, Some(header), sums))
+        .and_then(|()| match &destinations.preview {
+            Some(png) => outputs.stage(png, |sink| encode_png(sink, png, width, height, &rgb, args.exposure)),
+            None => Ok(()),
         })
         .and_then(|()| outputs.commit())
         .context("writing the merged image (nothing was written)")
         .map_err(CliError::Failed)?;
     if !args.quiet {
+        let what = if sums.is_some() { "a part, with its sums" } else { "the finished image" };
+        let mut wrote = vec![destinations.exr.display().to_string()];
+        wrote.extend(destinations.preview.iter().map(|p| p.display().to_string()));
         say!(
-            "merged {} parts: samples {} of 0..{}, window {} of {}×{} → {}",
+            "merged {} parts: samples {} of 0..{}, window {} of {}×{} → {} ({what})",
             args.parts.len(),
             header.samples,
             header.spp,
             header.window,
             header.display.0,
             header.display.1,
-            args.output.display()
+            wrote.join(", ")
         );
     }
     Ok(())

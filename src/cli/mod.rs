@@ -2,6 +2,7 @@
 //! exit codes.
 
 mod bench;
+mod destinations;
 mod export;
 mod fresnel;
 mod glass;

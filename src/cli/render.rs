@@ -8,15 +8,13 @@ use clap::Args;
 
 use indicatif::{ProgressBar, ProgressStyle};
 
+use super::destinations::Destinations;
 use super::{say, CliError};
 use prisma::film::{FilmLayout, SpectralBands, WindowSums};
 use prisma::integrator::LightTracer;
 use prisma::output::exr::encode_exr_part;
-use prisma::output::file::{
-    check_destination, check_not_inputs, check_regular_input, same_file, text_into, Destination, Outputs,
-};
+use prisma::output::file::{check_not_inputs, check_regular_input, same_file, text_into, Outputs};
 use prisma::output::png::encode_png;
-use prisma::output::OutputError;
 use prisma::part::{read_part, PartHeader, PixelWindow, SampleSet};
 use prisma::render::{render_sums, Job, RenderError};
 use prisma::scene::build::{MAX_DEPTH, MAX_LIGHT_PATHS, MAX_RESOLUTION, MAX_SPP};
@@ -349,7 +347,12 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         done = prior.header.samples.union(&new_samples);
         header.wall_seconds = prior.header.wall_seconds;
         header.threads = prior.header.threads;
-        header.parts = prior.header.parts + 1;
+        header.parts = prior.header.parts.checked_add(1).ok_or_else(|| {
+            input(anyhow!(
+                "--resume {}: the part counts 4294967295 merged parts already",
+                prior_name(&args.resume)
+            ))
+        })?;
     }
     header.samples = done.clone();
     header.wall_seconds += stats.elapsed.as_secs_f64();
@@ -439,6 +442,23 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         spinner.finish_and_clear();
     }
     written.context("writing the outputs (none was written)").map_err(CliError::Failed)?;
+    // A resumed render that finished its own `OUT.partial.exr`: the output now holds every
+    // sample of the part (with its sums), so the part is removed rather than left to be
+    // mistaken for unfinished work. Any other resumed file is left as it is.
+    let finished_partial = args.resume.as_deref().filter(|resumed| {
+        done.missing_below(settings.spp).is_empty() && same_file(resumed, &partial_path(&destinations.exr))
+    });
+    let removed = match finished_partial {
+        Some(partial) => match std::fs::remove_file(partial) {
+            Ok(()) => Some(format!(
+                "removed {} (its samples are in {})",
+                partial.display(),
+                destinations.exr.display()
+            )),
+            Err(e) => Some(format!("could not remove {}: {e}", partial.display())),
+        },
+        None => None,
+    };
 
     if !args.quiet {
         let caustics = if stats.light_paths > 0 {
@@ -452,7 +472,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         };
         let part = if is_part { format!(" (part: samples {done}, window {window})") } else { String::new() };
         say!(
-            "rendered {}: {width}×{height}, {} spp{caustics}{part}, {}, {} in {seconds:.2} s on {} threads ({:.1} M rays, {:.2} M rays/s)",
+            "rendered {}: {width}×{height}, {} spp{caustics}{part}, {}, {} in {seconds:.2} s on {} thread{} ({:.1} M rays, {:.2} M rays/s)",
             args.scene.display(),
             settings.spp,
             if settings.polarized { "polarised" } else { "unpolarised" },
@@ -461,12 +481,16 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
                 None => format!("{} λ/sample", settings.wavelengths),
             },
             stats.threads,
+            if stats.threads == 1 { "" } else { "s" },
             stats.rays as f64 * 1e-6,
             stats.rays as f64 * 1e-6 / seconds.max(1e-9),
         );
         let mut wrote = vec![destinations.exr.display().to_string()];
         wrote.extend(destinations.preview.iter().chain(&destinations.stats).map(|p| p.display().to_string()));
         say!("wrote {}", wrote.join(", "));
+        if let Some(removed) = &removed {
+            say!("{removed}");
+        }
     }
     Ok(())
 }
@@ -476,6 +500,11 @@ const PROGRESS_LOG_EVERY: std::time::Duration = std::time::Duration::from_secs(1
 /// A test hook: the environment variable that stops a render after that many sample blocks, as
 /// Ctrl-C would (the interruption tests use it instead of timing a signal).
 pub const STOP_AFTER_BLOCKS_VARIABLE: &str = "PRISMA_TEST_STOP_AFTER_BLOCKS";
+
+/// The `--resume` file's name for messages.
+fn prior_name(resume: &Option<PathBuf>) -> String {
+    resume.as_deref().map(|path| path.display().to_string()).unwrap_or_default()
+}
 
 /// Where an interrupted render writing `exr` puts its part: `NAME.partial.exr` beside it, so that
 /// an existing `exr` (an earlier complete render) is never replaced by a partial one.
@@ -524,83 +553,6 @@ fn spectral_bands(count: Option<u32>, range: Option<&str>) -> anyhow::Result<Opt
         ));
     }
     Ok(Some(bands))
-}
-
-/// The files a render writes, checked before it starts.
-struct Destinations {
-    exr: PathBuf,
-    /// The EXR goes to a special file (a device, a FIFO): written in place, no part beside it.
-    exr_special: bool,
-    preview: Option<PathBuf>,
-    stats: Option<PathBuf>,
-}
-
-impl Destinations {
-    /// Checks the outputs before any work: each can be written (not a directory, a block device,
-    /// an unwritable place), the EXR is named `.exr` and the preview `.png` (unless they are
-    /// special files such as /dev/null), and no two are the same file. Without `--preview` the
-    /// preview goes beside the EXR with a `.png` extension, or nowhere when the EXR goes to a
-    /// special file.
-    fn check(exr: &Path, preview: Option<&Path>, stats: Option<&Path>) -> Result<Self, CliError> {
-        let input = |e: OutputError| CliError::Input(e.into());
-        let exr_destination = check_destination(exr).map_err(input)?;
-        require_extension(&exr_destination, exr, "exr", "-o", "--preview names the PNG preview")?;
-        let preview = match (preview, &exr_destination) {
-            (Some(path), _) => Some(path.to_owned()),
-            (None, Destination::Replace(_)) => Some(exr.with_extension("png")),
-            (None, Destination::Special(_)) => None,
-        };
-        if let Some(path) = &preview {
-            let destination = check_destination(path).map_err(input)?;
-            require_extension(&destination, path, "png", "--preview", "-o names the EXR image")?;
-        }
-        if let Some(path) = stats {
-            check_destination(path).map_err(input)?;
-        }
-        let named = [("-o", Some(exr)), ("--preview", preview.as_deref()), ("--stats", stats)];
-        for (i, (flag_a, a)) in named.iter().enumerate() {
-            for (flag_b, b) in &named[i + 1..] {
-                if let (Some(a), Some(b)) = (a, b) {
-                    let special = matches!(check_destination(a), Ok(Destination::Special(_)));
-                    if same_file(a, b) && !special {
-                        return Err(CliError::Input(anyhow!(
-                            "{flag_a} and {flag_b} name the same file {}: each output needs its own",
-                            a.display()
-                        )));
-                    }
-                }
-            }
-        }
-        let exr_special = matches!(exr_destination, Destination::Special(_));
-        Ok(Self { exr: exr.to_owned(), exr_special, preview, stats: stats.map(Path::to_owned) })
-    }
-
-    /// Each output with the flag that names it.
-    fn named(&self) -> Vec<(&str, &Path)> {
-        let mut named = vec![("-o", self.exr.as_path())];
-        named.extend(self.preview.as_deref().map(|path| ("--preview", path)));
-        named.extend(self.stats.as_deref().map(|path| ("--stats", path)));
-        named
-    }
-}
-
-/// A regular file written as `format` must be named so.
-fn require_extension(
-    destination: &Destination,
-    path: &Path,
-    format: &str,
-    flag: &str,
-    hint: &str,
-) -> Result<(), CliError> {
-    let named = path.extension().is_some_and(|e| e.eq_ignore_ascii_case(format));
-    if matches!(destination, Destination::Replace(_)) && !named {
-        return Err(CliError::Input(anyhow!(
-            "{flag} {}: the file is written as {}, so its name must end in .{format} ({hint})",
-            path.display(),
-            format.to_uppercase()
-        )));
-    }
-    Ok(())
 }
 
 /// A spinner on standard error while the outputs are encoded and written (an 8K EXR takes
