@@ -11,9 +11,12 @@ use anyhow::{anyhow, bail, Context};
 use clap::Args;
 use num_complex::Complex32;
 
-use plotters::chart::SeriesLabelPosition;
+use plotters::style::RGBColor;
 
-use super::plot::{check_plot_path, encode_chart, encode_chart_grid, Marker, Panel, Series, Style, PALETTE};
+use super::plot::{
+    check_plot_path, encode_chart, encode_chart_grid, palette, LegendEntry, LegendPlace, Marker, Panel,
+    Series, Style,
+};
 use super::{output_error, say, CliError};
 use curves::Reflection;
 use prisma::optics::catalogue;
@@ -40,7 +43,8 @@ pub struct FresnelArgs {
         allow_negative_numbers = true
     )]
     ior: Option<String>,
-    /// Wavelength in nm at which a dispersive IOR or a metal is evaluated.
+    /// Wavelength in nm at which a dispersive IOR or a metal is evaluated: 200–2000, and for a
+    /// metal within its tabulated data (about 290–1000 nm).
     #[arg(long, value_name = "NM", default_value_t = 587.56, allow_negative_numbers = true)]
     wavelength: f32,
     /// Write the curves as CSV: angle in degrees; Rs, Rp, R from outside and (dielectrics) from
@@ -197,6 +201,7 @@ fn csv_field(text: &str) -> String {
 /// same order.
 fn curve_panels(interface: &Interface, table: &Table, wavelength_nm: f32) -> Vec<Panel> {
     let angles = &table.angles_deg;
+    let colors = palette(3);
     let reflectance_series = |rows: &[Reflection]| -> Vec<Series> {
         let curve =
             |value: fn(&Reflection) -> f64| angles.iter().copied().zip(rows.iter().map(value)).collect();
@@ -204,19 +209,19 @@ fn curve_panels(interface: &Interface, table: &Table, wavelength_nm: f32) -> Vec
             Series {
                 label: "Rs (s, TE)".into(),
                 points: curve(|row| row.reflectance_s),
-                color: PALETTE[0],
+                color: colors[0],
                 style: Style::Dashed,
             },
             Series {
                 label: "Rp (p, TM)".into(),
                 points: curve(|row| row.reflectance_p),
-                color: PALETTE[1],
+                color: colors[1],
                 style: Style::Dashed,
             },
             Series {
                 label: "R unpolarised".into(),
                 points: curve(|row| row.reflectance),
-                color: PALETTE[2],
+                color: colors[2],
                 style: Style::Line,
             },
         ]
@@ -227,19 +232,19 @@ fn curve_panels(interface: &Interface, table: &Table, wavelength_nm: f32) -> Vec
             Series {
                 label: "arg r_s".into(),
                 points: curve(|row| row.phase_s_deg),
-                color: PALETTE[0],
+                color: colors[0],
                 style: Style::Dashed,
             },
             Series {
                 label: "arg r_p".into(),
                 points: curve(|row| row.phase_p_deg),
-                color: PALETTE[1],
+                color: colors[1],
                 style: Style::Dashed,
             },
             Series {
                 label: "δ = arg r_p − arg r_s".into(),
                 points: curve(|row| row.delta_deg),
-                color: PALETTE[2],
+                color: colors[2],
                 style: Style::Line,
             },
         ]
@@ -254,7 +259,8 @@ fn curve_panels(interface: &Interface, table: &Table, wavelength_nm: f32) -> Vec
         y_ticks: Vec::new(),
         series,
         markers,
-        legend: SeriesLabelPosition::UpperLeft,
+        legend: LegendPlace::Above,
+        key: Vec::new(),
     };
     let phase_panel = |title: String, series: Vec<Series>, markers: Vec<Marker>| Panel {
         title,
@@ -266,7 +272,8 @@ fn curve_panels(interface: &Interface, table: &Table, wavelength_nm: f32) -> Vec
         y_ticks: (-4..=4).map(|k| f64::from(k) * 45.0).collect(),
         series,
         markers,
-        legend: SeriesLabelPosition::LowerLeft,
+        legend: LegendPlace::Above,
+        key: Vec::new(),
     };
     match interface {
         Interface::Dielectric { n, label } => {
@@ -346,7 +353,7 @@ fn parse_spec(spec: &str, wavelength_nm: f32) -> anyhow::Result<Interface> {
         if !(n.is_finite() && n > 0.0) {
             bail!("--ior must be finite and > 0, got {spec}");
         }
-        return dielectric(Ior::Constant(n), "glass".into());
+        return dielectric(Ior::Constant(n), "dielectric".into());
     }
     if let Some(list) = spec.strip_prefix("cauchy:") {
         let v = numbers(list, 3, "cauchy:A,B,C")?;
@@ -363,6 +370,14 @@ fn parse_spec(spec: &str, wavelength_nm: f32) -> anyhow::Result<Interface> {
         return dielectric(glass.ior().clone(), glass.name().to_owned());
     }
     if let Some(metal) = metals::metal(spec) {
+        // Beyond its table a metal's index is held at the end value, which is no measurement.
+        let (first, last) = metal.wavelength_range_nm();
+        if !(first..=last).contains(&wavelength_nm) {
+            bail!(
+                "--wavelength {wavelength_nm} nm is outside the tabulated data of {} ({first}–{last} nm)",
+                metal.name()
+            );
+        }
         return Ok(Interface::Conductor { eta: metal.eta(wavelength_nm), label: metal.name().to_owned() });
     }
     if let Some(complex) = spec.strip_suffix('i') {
@@ -493,50 +508,162 @@ pub fn fixture_overlay(path: &Path, plot: Option<&Path>, outputs: &mut Outputs) 
         groups.len()
     );
     if let (Some(plot), Some(format)) = (plot, format) {
-        let mut series = Vec::new();
-        for (index, FixtureCurve { key, quantity, mitsuba, prisma }) in groups.into_iter().enumerate() {
-            let color = PALETTE[index % PALETTE.len()];
-            let name = if key.len() == 1 {
-                format!("{quantity}, η = {:.4}", key[0])
-            } else {
-                format!("{quantity}, η = {}+{}i", key[0], key[1])
-            };
-            series.push(Series {
-                label: format!("Mitsuba {name}"),
-                points: mitsuba,
-                color,
-                style: Style::Points,
-            });
-            series.push(Series {
-                label: format!("prisma {name}"),
-                points: prisma,
-                color,
-                style: if quantity == "Rp" { Style::Dashed } else { Style::Line },
-            });
-        }
-        let x_min = if key_cols.len() == 1 { -1.0 } else { 0.0 };
-        let panel = Panel {
-            subtitle: String::new(),
-            y_ticks: Vec::new(),
-            title: format!(
-                "{}: Mitsuba 3 (points) vs prisma (lines), max |Δ| = {largest:.1e}",
-                path.file_name().map_or_else(String::new, |n| n.to_string_lossy().into_owned())
-            ),
-            x_label: "cos θi (negative: light from the interior)".into(),
-            y_label: if polarized {
-                "reflectance Rs = |a_s|², Rp = |a_p|² (s and p polarised)".into()
-            } else {
-                "unpolarised reflectance".into()
-            },
-            x_range: (x_min, 1.0),
-            y_range: (0.0, 1.0),
-            series,
-            markers: Vec::new(),
-            legend: SeriesLabelPosition::UpperLeft,
-        };
+        let file_name = path.file_name().map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+        let panel = fixture_panel(&file_name, groups, polarized, largest);
         outputs
-            .stage(plot, |sink| encode_chart(sink, plot, format, &[panel], (1000, 640)))
+            .stage(plot, |sink| encode_chart(sink, plot, format, &[panel], (1200, 640)))
             .map_err(|e| output_error(e, "writing the plot"))?;
     }
     Ok(largest)
+}
+
+/// The overlay of a fixture: one colour per relative index η (in increasing order, none
+/// repeated), the line style for the quantity (prisma's R or Rs solid, Rp dashed) and circles
+/// for Mitsuba's values; a key right of the plot lists the colours, then the styles.
+fn fixture_panel(file_name: &str, groups: Vec<FixtureCurve>, polarized: bool, largest: f64) -> Panel {
+    let mut keys: Vec<Vec<f64>> = Vec::new();
+    for group in &groups {
+        if !keys.contains(&group.key) {
+            keys.push(group.key.clone());
+        }
+    }
+    keys.sort_by(|a, b| {
+        a.iter().zip(b).map(|(x, y)| x.total_cmp(y)).find(|o| o.is_ne()).unwrap_or(std::cmp::Ordering::Equal)
+    });
+    let colors = palette(keys.len());
+    let color_of = |key: &[f64]| colors[keys.iter().position(|k| k == key).unwrap_or(0)];
+    let conductor = keys.first().is_some_and(|key| key.len() == 2);
+    let mut series = Vec::new();
+    for FixtureCurve { key, quantity, mitsuba, prisma } in groups {
+        let color = color_of(&key);
+        series.push(Series { label: String::new(), points: mitsuba, color, style: Style::Points });
+        series.push(Series {
+            label: String::new(),
+            points: prisma,
+            color,
+            style: if quantity == "Rp" { Style::Dashed } else { Style::Line },
+        });
+    }
+    // prisma's lines over Mitsuba's circles, which stay visible around them.
+    series.sort_by_key(|s| s.style != Style::Points);
+    let heading = |label: &str| LegendEntry { label: label.into(), color: RGBColor(0, 0, 0), style: None };
+    let style_entry = |label: &str, style: Style| LegendEntry {
+        label: label.into(),
+        color: RGBColor(60, 60, 60),
+        style: Some(style),
+    };
+    let mut key = vec![heading(if conductor { "η = n + ik" } else { "relative index η" })];
+    for (index, eta) in keys.iter().enumerate() {
+        key.push(LegendEntry { label: eta_label(eta), color: colors[index], style: Some(Style::Line) });
+    }
+    key.push(heading(""));
+    key.push(heading("drawn as"));
+    if polarized {
+        key.push(style_entry("prisma Rs = |r_s|²", Style::Line));
+        key.push(style_entry("prisma Rp = |r_p|²", Style::Dashed));
+    } else {
+        key.push(style_entry("prisma R", Style::Line));
+    }
+    key.push(style_entry("Mitsuba 3", Style::Points));
+    Panel {
+        subtitle: String::new(),
+        y_ticks: Vec::new(),
+        title: format!("{file_name}: Mitsuba 3 (circles) vs prisma (lines), max |Δ| = {largest:.1e}"),
+        x_label: if conductor {
+            "cos θi".into()
+        } else {
+            "cos θi (negative: light from the interior)".into()
+        },
+        y_label: if polarized {
+            "reflectance Rs = |a_s|², Rp = |a_p|² (s and p polarised)".into()
+        } else {
+            "unpolarised reflectance".into()
+        },
+        x_range: (if conductor { 0.0 } else { -1.0 }, 1.0),
+        y_range: (0.0, 1.0),
+        series,
+        markers: Vec::new(),
+        legend: LegendPlace::Right,
+        key,
+    }
+}
+
+/// A relative index for a legend: at most four decimals, no trailing zeros (1.0001, 1.33,
+/// 0.6667); a complex one as `n + ki`.
+fn eta_label(eta: &[f64]) -> String {
+    let short = |value: f64| {
+        let text = format!("{value:.4}");
+        let text = text.trim_end_matches('0').trim_end_matches('.');
+        if text == "-0" {
+            "0".to_owned()
+        } else {
+            text.to_owned()
+        }
+    };
+    match eta {
+        [re, im] => format!("{} + {}i", short(*re), short(*im)),
+        [value] => short(*value),
+        _ => String::new(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn curve(eta: f64, quantity: &'static str) -> FixtureCurve {
+        FixtureCurve { key: vec![eta], quantity, mitsuba: vec![(0.5, 0.1)], prisma: vec![(0.5, 0.1)] }
+    }
+
+    /// The polarised fixture's sixteen (η, quantity) curves: one colour per η and a different one
+    /// for every η, Rp dashed and Rs solid, Mitsuba's values as circles, and a key right of the
+    /// plot with one line per η (in increasing order) and one per style instead of one per curve.
+    #[test]
+    fn fixture_plot_has_one_colour_per_index_and_a_compact_key() {
+        let etas = [0.5, 0.75, 0.6666667, 1.0, 1.0001, 1.33, 1.5, 2.4];
+        let groups = etas.iter().flat_map(|&eta| [curve(eta, "Rs"), curve(eta, "Rp")]).collect();
+        let panel = fixture_panel("fresnel_polarized.csv", groups, true, 1e-7);
+        assert_eq!(panel.legend, LegendPlace::Right);
+        assert!(panel.series.iter().all(|s| s.label.is_empty()), "no legend line per curve");
+        let colours: Vec<RGBColor> = panel
+            .key
+            .iter()
+            .filter(|e| e.style == Some(Style::Line) && e.color != RGBColor(60, 60, 60))
+            .map(|e| e.color)
+            .collect();
+        let labels: Vec<&str> = panel.key.iter().map(|e| e.label.as_str()).collect();
+        assert_eq!(colours, palette(8));
+        for (index, eta) in ["0.5", "0.6667", "0.75", "1", "1.0001", "1.33", "1.5", "2.4"].iter().enumerate()
+        {
+            assert_eq!(labels[1 + index], *eta);
+        }
+        for style in [Style::Line, Style::Dashed, Style::Points] {
+            assert_eq!(
+                panel
+                    .key
+                    .iter()
+                    .filter(|e| e.color == RGBColor(60, 60, 60) && e.style == Some(style))
+                    .count(),
+                1
+            );
+        }
+        // Every series of an η in that η's colour; prisma's Rp dashed, Rs solid.
+        assert_eq!(panel.series.len(), 32);
+        let mut by_colour = std::collections::HashMap::new();
+        for series in &panel.series {
+            *by_colour.entry((series.color.0, series.color.1, series.color.2)).or_insert(0) += 1;
+        }
+        assert_eq!(by_colour.len(), 8);
+        assert!(by_colour.values().all(|&n| n == 4), "{by_colour:?}");
+        assert_eq!(panel.series.iter().filter(|s| s.style == Style::Dashed).count(), 8);
+        assert_eq!(panel.series.iter().filter(|s| s.style == Style::Points).count(), 16);
+    }
+
+    #[test]
+    fn indices_are_labelled_briefly() {
+        assert_eq!(eta_label(&[0.6666667]), "0.6667");
+        assert_eq!(eta_label(&[1.0]), "1");
+        assert_eq!(eta_label(&[1.0001]), "1.0001");
+        assert_eq!(eta_label(&[0.17, 3.15]), "0.17 + 3.15i");
+    }
 }

@@ -7,9 +7,7 @@ use std::path::PathBuf;
 use anyhow::anyhow;
 use clap::Args;
 
-use plotters::chart::SeriesLabelPosition;
-
-use super::plot::{check_plot_path, encode_chart, Marker, Panel, Series, Style, PALETTE};
+use super::plot::{check_plot_path, encode_chart, palette, LegendPlace, Marker, Panel, Series, Style};
 use super::{output_error, say, CliError};
 use prisma::optics::catalogue::{self, GlassEntry};
 use prisma::optics::dispersion::{LAMBDA_C_NM, LAMBDA_D_NM, LAMBDA_F_NM};
@@ -84,6 +82,7 @@ pub fn run(args: &GlassArgs) -> Result<(), CliError> {
         let glasses: Vec<&GlassEntry> =
             if selected.is_empty() { catalogue::glasses().iter().collect() } else { selected };
         let mut y_range = (f64::INFINITY, f64::NEG_INFINITY);
+        let colors = palette(glasses.len());
         let series: Vec<Series> = glasses
             .iter()
             .enumerate()
@@ -100,7 +99,7 @@ pub fn run(args: &GlassArgs) -> Result<(), CliError> {
                 Series {
                     label: format!("{} (n_d {:.4}, V_d {:.1})", glass.name(), glass.n_d(), glass.abbe_vd()),
                     points,
-                    color: PALETTE[k % PALETTE.len()],
+                    color: colors[k],
                     style: Style::Line,
                 }
             })
@@ -120,10 +119,10 @@ pub fn run(args: &GlassArgs) -> Result<(), CliError> {
                 Marker { x: LAMBDA_D_NM, label: "d 587.6".into() },
                 Marker { x: LAMBDA_C_NM, label: "C 656.3".into() },
             ],
-            // Indices of real glasses leave the band between ~1.9 and ~2.3 empty.
-            legend: SeriesLabelPosition::MiddleRight,
+            legend: LegendPlace::Right,
+            key: Vec::new(),
         };
-        write_file(path, |sink| encode_chart(sink, path, format, &[panel], (900, 600)))
+        write_file(path, |sink| encode_chart(sink, path, format, &[panel], (1160, 600)))
             .map_err(|e| output_error(e, "writing the plot"))?;
         say!("wrote {}", path.display());
     }

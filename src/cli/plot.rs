@@ -1,5 +1,7 @@
 //! Line charts for the `fresnel` and `glass` commands, through plotters: SVG or PNG by the file
-//! extension, panels side by side or in a grid, a legend, a grid and labelled vertical markers.
+//! extension, panels side by side or in a grid, a grid and labelled vertical markers. Nothing is
+//! written over the curves: the legend sits above or right of the plot area (its swatches drawn
+//! in the style of their curves), marker labels in rows above it.
 //! Text uses the DejaVu Sans font embedded by the `dejavu` crate, so no system font is needed
 //! (`polviz` draws its labels with it too).
 
@@ -12,27 +14,40 @@ use plotters::coord::ranged1d::{KeyPointHint, NoDefaultFormatting, Ranged, Value
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
-use plotters::style::FontStyle;
+use plotters::style::text_anchor;
+use plotters::style::{FontDesc, FontStyle};
 
 use super::CliError;
 use prisma::output::file::{check_destination, text_into, Destination, Sink};
 use prisma::output::OutputError;
 
-/// How a series is drawn.
+/// How a series is drawn; its legend swatch is drawn the same way.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Style {
     /// A solid line.
     Line,
-    /// A dashed line.
+    /// A dashed line ([`DASH`] pixels on, [`GAP`] off).
     Dashed,
     /// Small circles at the data points (reference data).
     Points,
 }
 
+/// Length in pixels of a dash of [`Style::Dashed`], in the plot and in its legend swatch.
+pub const DASH: u32 = 8;
+/// Length in pixels of the gap between two dashes of [`Style::Dashed`].
+pub const GAP: u32 = 5;
+/// Radius in pixels of the circles of [`Style::Points`].
+const POINT_RADIUS: u32 = 2;
+/// Length in pixels of a legend swatch: three dashes and two gaps, so that a dashed swatch
+/// reads as dashed.
+const SWATCH: u32 = 3 * DASH + 2 * GAP;
+/// Height in pixels of a legend line.
+const LEGEND_LINE: u32 = 18;
+
 /// One curve.
 #[derive(Debug, Clone)]
 pub struct Series {
-    /// Legend text.
+    /// Legend text; empty: the series has no legend entry of its own (see [`Panel::key`]).
     pub label: String,
     /// (x, y) points; a non-finite y breaks the line there.
     pub points: Vec<(f64, f64)>,
@@ -47,8 +62,28 @@ pub struct Series {
 pub struct Marker {
     /// Where on the x axis.
     pub x: f64,
-    /// Its label.
+    /// Its label, written above the plot area so that it never covers a curve.
     pub label: String,
+}
+
+/// Where a panel's legend goes: outside the plot area, so that it covers no curve.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LegendPlace {
+    /// Rows between the title and the plot area (a few short entries).
+    Above,
+    /// A column right of the plot area, as wide as its longest line (many entries).
+    Right,
+}
+
+/// A legend line that is not a series of its own: a swatch and its text, or a heading.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LegendEntry {
+    /// Text.
+    pub label: String,
+    /// The swatch's colour.
+    pub color: RGBColor,
+    /// The swatch, drawn as a series of this style would be; none for a heading.
+    pub style: Option<Style>,
 }
 
 /// One chart.
@@ -72,21 +107,44 @@ pub struct Panel {
     pub series: Vec<Series>,
     /// Vertical markers.
     pub markers: Vec<Marker>,
-    /// Where the legend goes (somewhere the curves leave empty).
-    pub legend: SeriesLabelPosition,
+    /// Where the legend goes.
+    pub legend: LegendPlace,
+    /// Legend lines after those of the labelled series (a key of colours and styles shared by
+    /// several series).
+    pub key: Vec<LegendEntry>,
 }
 
-/// A palette that reads well on white and for common colour-vision deficiencies (Okabe & Ito 2008).
-pub const PALETTE: [RGBColor; 8] = [
-    RGBColor(0, 114, 178),
-    RGBColor(213, 94, 0),
-    RGBColor(0, 158, 115),
-    RGBColor(204, 121, 167),
-    RGBColor(230, 159, 0),
-    RGBColor(86, 180, 233),
-    RGBColor(0, 0, 0),
-    RGBColor(150, 150, 150),
+/// Paul Tol's "muted" qualitative scheme (<https://personal.sron.nl/~pault/>): nine colours that
+/// stay distinct from each other on white and for the common colour-vision deficiencies,
+/// ordered so that neighbours differ in hue and lightness.
+const QUALITATIVE: [RGBColor; 9] = [
+    RGBColor(0x33, 0x22, 0x88), // indigo
+    RGBColor(0xCC, 0x66, 0x77), // rose
+    RGBColor(0x11, 0x77, 0x33), // green
+    RGBColor(0x88, 0xCC, 0xEE), // cyan
+    RGBColor(0x88, 0x22, 0x55), // wine
+    RGBColor(0xDD, 0xCC, 0x77), // sand
+    RGBColor(0x44, 0xAA, 0x99), // teal
+    RGBColor(0xAA, 0x44, 0x99), // purple
+    RGBColor(0x99, 0x99, 0x33), // olive
 ];
+
+/// `count` distinct colours, one per curve or group: [`QUALITATIVE`] when it has enough, else
+/// `count` hues evenly spaced around the colour wheel, alternately dark and light, so that no
+/// two curves ever share a colour.
+pub fn palette(count: usize) -> Vec<RGBColor> {
+    if count <= QUALITATIVE.len() {
+        return QUALITATIVE[..count].to_vec();
+    }
+    (0..count)
+        .map(|index| {
+            let hue = index as f64 / count as f64;
+            let lightness = if index % 2 == 0 { 0.38 } else { 0.55 };
+            let (r, g, b) = HSLColor(hue, 0.75, lightness).rgb();
+            RGBColor(r, g, b)
+        })
+        .collect()
+}
 
 /// The family name under which the embedded DejaVu Sans is registered.
 pub const FONT: &str = "sans-serif";
@@ -209,6 +267,13 @@ fn draw<DB: DrawingBackend>(
     Ok(())
 }
 
+/// Space in pixels around a chart, and the widths of its axis label areas.
+const CHART_MARGIN: u32 = 14;
+const Y_LABEL_AREA: u32 = 60;
+const X_LABEL_AREA: u32 = 44;
+/// Height in pixels of a row of marker labels above the plot area.
+const MARKER_ROW: u32 = 16;
+
 fn draw_panel<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     panel: &Panel,
@@ -219,12 +284,44 @@ fn draw_panel<DB: DrawingBackend>(
     } else {
         titled.titled(&panel.subtitle, (FONT, 13).into_font().color(&RGBColor(70, 70, 70)))?
     };
+    let entries = legend_entries(panel);
+    let label_font = (FONT, 13).into_font();
+    let (area, legend_area) = match panel.legend {
+        LegendPlace::Above => {
+            let rows = legend_rows(&area, &entries, &label_font)?;
+            let height = rows.len() as u32 * LEGEND_LINE + 4;
+            let (legend, chart) = area.split_vertically(height);
+            (chart, legend)
+        }
+        LegendPlace::Right => {
+            let mut width = 0;
+            for entry in &entries {
+                width = width.max(legend_entry_width(&area, entry, &label_font)?);
+            }
+            let (chart, legend) = area.split_horizontally(area.dim_in_pixel().0.saturating_sub(width + 24));
+            (chart, legend)
+        }
+    };
+
+    // Marker labels go in rows above the plot area, so that they never cover a curve.
+    let marker_font = (FONT, 13).into_font().color(&RGBColor(90, 90, 90));
+    let plot_left = CHART_MARGIN + Y_LABEL_AREA;
+    let plot_width = area.dim_in_pixel().0.saturating_sub(plot_left + CHART_MARGIN).max(1);
+    let span = panel.x_range.1 - panel.x_range.0;
+    let to_pixel = |x: f64| plot_left as i32 + ((x - panel.x_range.0) / span * f64::from(plot_width)) as i32;
+    let mut labels = Vec::new();
+    for marker in &panel.markers {
+        labels.push((to_pixel(marker.x), area.estimate_text_size(&marker.label, &marker_font)?.0 as i32));
+    }
+    let placed = place_labels(&labels, area.dim_in_pixel().0 as i32);
+    let marker_rows = placed.iter().map(|&(row, _)| row as u32 + 1).max().unwrap_or(0);
+
     let y_axis = YAxis { inner: (panel.y_range.0..panel.y_range.1).into(), ticks: panel.y_ticks.clone() };
     let mut chart = ChartBuilder::on(&area)
-        .margin(14)
-        .margin_top(4)
-        .x_label_area_size(44)
-        .y_label_area_size(60)
+        .margin(CHART_MARGIN)
+        .margin_top(6 + marker_rows * MARKER_ROW)
+        .x_label_area_size(X_LABEL_AREA)
+        .y_label_area_size(Y_LABEL_AREA)
         .build_cartesian_2d(panel.x_range.0..panel.x_range.1, y_axis)?;
     let whole_numbers = |value: &f64| format!("{value:.0}");
     let mut mesh = chart.configure_mesh();
@@ -238,57 +335,200 @@ fn draw_panel<DB: DrawingBackend>(
         mesh.y_label_formatter(&whole_numbers);
     }
     mesh.draw()?;
-    for (index, marker) in panel.markers.iter().enumerate() {
-        let grey = RGBColor(90, 90, 90);
+    let grey = RGBColor(90, 90, 90);
+    let (_, plot_y) = chart.plotting_area().get_pixel_range();
+    // Label positions come from the layout estimated above; plotters' may differ by a pixel.
+    let area_y = area.get_base_pixel().1;
+    for (marker, &(row, left)) in panel.markers.iter().zip(&placed) {
         chart.draw_series(DashedLineSeries::new(
             [(marker.x, panel.y_range.0), (marker.x, panel.y_range.1)],
             6,
             4,
             grey.stroke_width(1),
         ))?;
-        // Staggered so that labels of nearby markers do not overlap.
-        let y = panel.y_range.0 + (0.97 - 0.06 * index as f64) * (panel.y_range.1 - panel.y_range.0);
-        chart.draw_series(std::iter::once(Text::new(
-            marker.label.clone(),
-            (marker.x, y),
-            (FONT, 13).into_font().color(&grey).pos(plotters::style::text_anchor::Pos::new(
-                plotters::style::text_anchor::HPos::Right,
-                plotters::style::text_anchor::VPos::Top,
-            )),
-        )))?;
+        let bottom = plot_y.start - area_y - 3 - ((marker_rows - 1 - row as u32) * MARKER_ROW) as i32;
+        let style = marker_font
+            .clone()
+            .pos(text_anchor::Pos::new(text_anchor::HPos::Left, text_anchor::VPos::Bottom));
+        area.draw_text(&marker.label, &style, (left, bottom))?;
     }
     for series in &panel.series {
         let color = series.color;
-        // A non-finite y breaks the line: each run between breaks is drawn on its own, and
-        // the first carries the legend entry.
-        let mut labelled = false;
+        // A non-finite y breaks the line: each run between breaks is drawn on its own.
         for run in series.points.split(|point| !point.1.is_finite()).filter(|run| !run.is_empty()) {
             let points = run.iter().copied();
-            let drawn = match series.style {
-                Style::Line => chart.draw_series(LineSeries::new(points, color.stroke_width(2)))?,
+            match series.style {
+                Style::Line => {
+                    chart.draw_series(LineSeries::new(points, color.stroke_width(2)))?;
+                }
                 Style::Dashed => {
-                    chart.draw_series(DashedLineSeries::new(points, 8, 5, color.stroke_width(2)))?
+                    chart.draw_series(DashedLineSeries::new(points, DASH, GAP, color.stroke_width(2)))?;
                 }
                 Style::Points => {
-                    chart.draw_series(points.map(|point| Circle::new(point, 2, color.stroke_width(1))))?
+                    chart.draw_series(
+                        points.map(|point| Circle::new(point, POINT_RADIUS, color.stroke_width(1))),
+                    )?;
                 }
-            };
-            if !labelled {
-                labelled = true;
-                drawn
-                    .label(&series.label)
-                    .legend(move |(x, y)| PathElement::new([(x, y), (x + 18, y)], color.stroke_width(2)));
             }
         }
     }
-    chart
-        .configure_series_labels()
-        .position(panel.legend.clone())
-        .background_style(WHITE.mix(0.85))
-        .border_style(RGBColor(180, 180, 180))
-        .label_font((FONT, 13))
-        .draw()?;
+    match panel.legend {
+        LegendPlace::Above => {
+            let rows = legend_rows(&legend_area, &entries, &label_font)?;
+            for (index, row) in rows.iter().enumerate() {
+                let y = (index as u32 * LEGEND_LINE + LEGEND_LINE / 2) as i32;
+                for &(x, entry) in row {
+                    draw_legend_entry(&legend_area, entry, (plot_left as i32 + x, y), &label_font)?;
+                }
+            }
+        }
+        LegendPlace::Right => {
+            let top = plot_y.start - legend_area.get_base_pixel().1;
+            for (index, entry) in entries.iter().enumerate() {
+                let y = top + (index as u32 * LEGEND_LINE + LEGEND_LINE / 2) as i32;
+                draw_legend_entry(&legend_area, entry, (8, y), &label_font)?;
+            }
+        }
+    }
     Ok(())
+}
+
+/// Places labels of the given (centre, width) in pixels in rows, none overlapping another and
+/// all within `0..area_width`: each in the lowest row where it fits centred on its marker, or
+/// ending at it (first, when the next marker is too close to centre on), or starting at it.
+/// Returns (row, left edge) per label.
+fn place_labels(labels: &[(i32, i32)], area_width: i32) -> Vec<(usize, i32)> {
+    const SPACE: i32 = 8;
+    let mut placed: Vec<(usize, i32, i32)> = Vec::new();
+    for (index, &(centre, width)) in labels.iter().enumerate() {
+        let crowded = labels
+            .iter()
+            .enumerate()
+            .any(|(other, &(x, _))| other != index && x > centre && x - centre < width / 2 + SPACE);
+        let centred = centre - width / 2;
+        let before = centre - SPACE / 2 - width;
+        let after = centre + SPACE / 2;
+        let candidates = if crowded { [before, centred, after] } else { [centred, after, before] };
+        let fits = |row: usize, left: i32| {
+            left >= 0
+                && left + width <= area_width
+                && placed
+                    .iter()
+                    .all(|&(r, l, rr)| r != row || left + width + SPACE <= l || rr + SPACE <= left)
+        };
+        let (row, left) = (0..=labels.len())
+            .find_map(|row| candidates.iter().find(|&&left| fits(row, left)).map(|&left| (row, left)))
+            .unwrap_or((placed.len(), centred.clamp(0, (area_width - width).max(0))));
+        placed.push((row, left, left + width));
+    }
+    placed.into_iter().map(|(row, left, _)| (row, left)).collect()
+}
+
+/// The legend lines of a panel: its labelled series, then its key.
+fn legend_entries(panel: &Panel) -> Vec<LegendEntry> {
+    panel
+        .series
+        .iter()
+        .filter(|series| !series.label.is_empty())
+        .map(|series| LegendEntry {
+            label: series.label.clone(),
+            color: series.color,
+            style: Some(series.style),
+        })
+        .chain(panel.key.iter().cloned())
+        .collect()
+}
+
+/// One row of a legend above a plot: (x offset from the plot area's left edge, entry).
+type LegendRow<'a> = Vec<(i32, &'a LegendEntry)>;
+
+/// Lays `entries` out in rows across `area`, starting under the plot area's left edge: each
+/// row lists (x offset from that edge, entry).
+fn legend_rows<'a, DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    entries: &'a [LegendEntry],
+    font: &FontDesc,
+) -> Result<Vec<LegendRow<'a>>, DrawingAreaErrorKind<DB::ErrorType>> {
+    let available = area.dim_in_pixel().0.saturating_sub(CHART_MARGIN * 2 + Y_LABEL_AREA) as i32;
+    let mut rows: Vec<LegendRow> = vec![Vec::new()];
+    let mut x = 0;
+    for entry in entries {
+        let width = legend_entry_width(area, entry, font)? as i32;
+        if x > 0 && x + width > available {
+            rows.push(Vec::new());
+            x = 0;
+        }
+        rows.last_mut().expect("one row at least").push((x, entry));
+        x += width + 24;
+    }
+    Ok(rows)
+}
+
+/// The width in pixels of one legend line: its swatch, a space and its text.
+fn legend_entry_width<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    entry: &LegendEntry,
+    font: &FontDesc,
+) -> Result<u32, DrawingAreaErrorKind<DB::ErrorType>> {
+    let text = area.estimate_text_size(&entry.label, &TextStyle::from(font.clone()))?.0;
+    Ok(if entry.style.is_some() { SWATCH + 6 + text } else { text })
+}
+
+/// Draws one legend line with its left end at `at` (y: the line's middle): the swatch as its
+/// series is drawn, then the text; a heading is text alone, in grey.
+fn draw_legend_entry<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    entry: &LegendEntry,
+    at: (i32, i32),
+    font: &FontDesc,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    let (x, y) = at;
+    let text_style = |color: RGBColor| {
+        font.clone()
+            .color(&color)
+            .pos(text_anchor::Pos::new(text_anchor::HPos::Left, text_anchor::VPos::Center))
+    };
+    let Some(style) = entry.style else {
+        if entry.label.is_empty() {
+            return Ok(());
+        }
+        return area.draw_text(&entry.label, &text_style(RGBColor(70, 70, 70)), (x, y));
+    };
+    for segment in swatch_segments(style) {
+        match segment {
+            SwatchPart::Line(from, to) => {
+                area.draw(&PathElement::new([(x + from, y), (x + to, y)], entry.color.stroke_width(2)))?
+            }
+            SwatchPart::Circle(centre) => {
+                area.draw(&Circle::new((x + centre, y), POINT_RADIUS, entry.color.stroke_width(1)))?
+            }
+        }
+    }
+    area.draw_text(&entry.label, &text_style(BLACK), (x + (SWATCH + 6) as i32, y))
+}
+
+/// A piece of a legend swatch, in pixels from the swatch's left end.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum SwatchPart {
+    /// A horizontal stroke from one x to another.
+    Line(i32, i32),
+    /// A circle of [`POINT_RADIUS`] at this x.
+    Circle(i32),
+}
+
+/// The swatch of a style, drawn as its series are: one stroke; dashes of [`DASH`] with gaps of
+/// [`GAP`], as `DashedLineSeries` draws them; or three circles.
+fn swatch_segments(style: Style) -> Vec<SwatchPart> {
+    let length = SWATCH as i32;
+    match style {
+        Style::Line => vec![SwatchPart::Line(0, length)],
+        Style::Dashed => (0..)
+            .map(|k| k * (DASH + GAP) as i32)
+            .take_while(|&start| start < length)
+            .map(|start| SwatchPart::Line(start, (start + DASH as i32).min(length)))
+            .collect(),
+        Style::Points => [1, 3, 5].iter().map(|&sixth| SwatchPart::Circle(length * sixth / 6)).collect(),
+    }
 }
 
 /// A y axis that places its ticks where plotters would, or at the given values.
@@ -322,5 +562,61 @@ impl Ranged for YAxis {
 impl ValueFormatter<f64> for YAxis {
     fn format(value: &f64) -> String {
         RangedCoordf64::format(value)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// No two curves share a colour, however many there are (the fixture plots had η = 1.0 and
+    /// η = 2.4 both black when eight colours were cycled over sixteen curves).
+    #[test]
+    fn palette_never_repeats_a_colour() {
+        for count in 1..=40 {
+            let colors = palette(count);
+            assert_eq!(colors.len(), count);
+            for (i, a) in colors.iter().enumerate() {
+                for b in &colors[i + 1..] {
+                    assert_ne!(a, b, "{count} colours");
+                }
+            }
+        }
+        assert_eq!(palette(9), QUALITATIVE.to_vec());
+    }
+
+    /// A dashed series' legend swatch is dashed like the series (DASH on, GAP off, as plotters'
+    /// `DashedLineSeries` draws it), not a solid stroke; a line's swatch is one stroke; points are
+    /// circles.
+    #[test]
+    fn legend_swatches_are_drawn_in_their_series_style() {
+        let dashed = swatch_segments(Style::Dashed);
+        assert!(dashed.len() >= 2, "{dashed:?}");
+        for pair in dashed.windows(2) {
+            let (SwatchPart::Line(a0, a1), SwatchPart::Line(b0, _)) = (pair[0], pair[1]) else {
+                panic!("{dashed:?}")
+            };
+            assert_eq!((a1 - a0, b0 - a1), (DASH as i32, GAP as i32));
+        }
+        assert_eq!(swatch_segments(Style::Line), vec![SwatchPart::Line(0, SWATCH as i32)]);
+        assert!(swatch_segments(Style::Points).iter().all(|part| matches!(part, SwatchPart::Circle(_))));
+    }
+
+    /// N-BK7 from inside: Brewster's angle 33.4° and the critical angle 41.3° are 48 px apart on
+    /// a 550 px axis, closer than their labels are wide. The labels share a row, one ending and one
+    /// starting at its line, without overlapping; a label near the edge stays inside the panel.
+    #[test]
+    fn marker_labels_never_overlap() {
+        let labels = [(280, 96), (328, 90)];
+        let placed = place_labels(&labels, 640);
+        assert_eq!(placed.iter().map(|&(row, _)| row).collect::<Vec<_>>(), [0, 0]);
+        assert!(placed[0].1 + labels[0].1 <= labels[0].0, "the first ends left of its line");
+        assert!(placed[1].1 >= labels[1].0, "the second starts right of its line");
+        assert!(placed[0].1 + labels[0].1 < placed[1].1);
+        // Three labels on one spot: three rows.
+        let stacked = place_labels(&[(300, 80), (300, 80), (300, 80)], 640);
+        assert_eq!(stacked.iter().map(|&(row, _)| row).collect::<Vec<_>>(), [0, 1, 2]);
+        let edge = place_labels(&[(630, 160)], 640);
+        assert!(edge[0].1 >= 0 && edge[0].1 + 160 <= 640, "{edge:?}");
     }
 }

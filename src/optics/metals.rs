@@ -2,7 +2,8 @@
 //! silver, gold and copper from Johnson & Christy, Phys. Rev. B 6, 4370 (1972); aluminium from
 //! Rakić, Appl. Opt. 34, 4755 (1995). Each file names its source in its `#` header; n and k are
 //! interpolated linearly in wavelength (nm), constant beyond the table's ends (about
-//! 290–1000 nm, wider than the rendered 360–830 nm).
+//! 290–1000 nm, wider than the rendered 360–830 nm, so that renders never leave the data;
+//! `prisma fresnel` refuses wavelengths outside [`MetalEntry::wavelength_range_nm`]).
 //!
 //! Feed [`MetalEntry::eta`] (divided by the exterior index when that is not vacuum) to
 //! [`crate::optics::conductor::fresnel_conductor`].
@@ -55,6 +56,12 @@ impl MetalEntry {
     /// The complex index n + ik against vacuum at `lambda_nm` (nm), linearly interpolated.
     pub fn eta(&self, lambda_nm: f32) -> Complex32 {
         Complex32::new(interpolate_table(&self.n, lambda_nm), interpolate_table(&self.k, lambda_nm))
+    }
+    /// The shortest and the longest tabulated wavelength, in nm: beyond them [`Self::eta`] holds
+    /// the end values, which are not data.
+    pub fn wavelength_range_nm(&self) -> (f32, f32) {
+        // The table is non-empty and sorted (checked when it is parsed).
+        (self.n[0].0, self.n[self.n.len() - 1].0)
     }
     /// The measured samples (λ nm, n, k).
     pub fn samples(&self) -> impl Iterator<Item = (f32, f32, f32)> + '_ {
