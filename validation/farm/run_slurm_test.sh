@@ -18,7 +18,7 @@ cargo build --release -q
 export PRISMA=$PWD/target/release/prisma SCENE=$PWD/scenes/showcase.toml OUT=$PWD/out/farm
 export SPP=32 RANGES=4 CROPS=2 WIDTH=800 HEIGHT=450
 rm -rf "$OUT" && mkdir -p "$OUT"
-echo "== prisma $("$PRISMA" --version), scene $SCENE: ${WIDTH}×${HEIGHT}, $SPP spp, split into $RANGES sample ranges × $CROPS crops"
+echo "== $("$PRISMA" --version), scene $SCENE: ${WIDTH}×${HEIGHT}, $SPP spp, split into $RANGES sample ranges × $CROPS crops"
 read -r array merge < <(validation/farm/submit.sh)
 echo "== submitted job array $array and merge job $merge (afterok:$array)"
 start=$(date +%s)
