@@ -124,7 +124,7 @@ pub fn run(args: &ValidateArgs) -> Result<(), CliError> {
         };
         let (result, images) = outcome.map_err(|e| {
             progress.finish();
-            CliError::Failed(anyhow::Error::from(e).context(format!("case {}", case.name())))
+            CliError::Failed(e.into())
         })?;
         let seconds = start.elapsed().as_secs_f64();
         progress.end(index, result.passed(), seconds);

@@ -15,10 +15,14 @@ pub fn verdict_word(passed: bool) -> &'static str {
     }
 }
 
-/// Seconds as a person reads them: `0.42 s`, `12.3 s`, `48 s`, `3 min 05 s`, `1 h 02 min`.
+/// Seconds as a person reads them: `< 0.01 s`, `0.42 s`, `12.3 s`, `48 s`, `3 min 05 s`, `1 h 02 min`.
 pub fn duration(seconds: f64) -> String {
     if !seconds.is_finite() || seconds < 0.0 {
         return "?".to_owned();
+    }
+    if seconds < 0.005 {
+        // Not "0.00 s": the case did run.
+        return "< 0.01 s".to_owned();
     }
     if seconds < 1.0 {
         return format!("{seconds:.2} s");
@@ -228,6 +232,7 @@ mod tests {
 
     #[test]
     fn durations_read_as_people_say_them() {
+        assert_eq!(duration(0.0004), "< 0.01 s");
         assert_eq!(duration(0.4213), "0.42 s");
         assert_eq!(duration(2.14), "2.1 s");
         assert_eq!(duration(48.4), "48 s");
