@@ -3,11 +3,16 @@
 //! non-zero when a case fails.
 
 use std::fmt::Write as _;
+use std::io::{IsTerminal, Write as _};
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
 
 use anyhow::anyhow;
 use clap::{Args, ValueEnum};
 use glam::Vec3;
+use indicatif::{ProgressBar, ProgressState, ProgressStyle};
 
 use super::{output_error, say, CliError};
 use prisma::integrator::Fault;
@@ -15,7 +20,8 @@ use prisma::output::file::{check_destination, text_into, Outputs};
 use prisma::output::png::encode_png;
 use prisma::validate::metrics::{Planes, Z_OUTLIER};
 use prisma::validate::mitsuba::{run_case, CaseImages, RunOptions};
-use prisma::validate::{analytic, cases, CaseResult};
+use prisma::validate::summary::{self, Verdict};
+use prisma::validate::{analytic, cases, CaseResult, Kind};
 
 /// A deliberate physics error to inject, proving that validation catches it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -61,6 +67,9 @@ pub struct ValidateArgs {
     /// Inject a deliberate physics error: every case that can see it must then FAIL.
     #[arg(long, value_enum)]
     fault: Option<FaultArg>,
+    /// Do not print progress on standard error (the table and the verdict are still printed).
+    #[arg(short, long)]
+    quiet: bool,
 }
 
 /// Runs `prisma validate`.
@@ -95,43 +104,186 @@ pub fn run(args: &ValidateArgs) -> Result<(), CliError> {
     }
     let selected = |name: &str| args.cases.is_empty() || args.cases.iter().any(|c| c == name);
 
-    let mut results: Vec<(CaseResult, Option<CaseImages>)> = Vec::new();
-    for name in analytic::CASES.iter().filter(|n| selected(n)) {
-        let result = analytic::run(name, threads, fault).map_err(|e| CliError::Failed(e.into()))?;
-        print_result(&result);
-        results.push((result, None));
-    }
+    let planned: Vec<Planned> = analytic::CASES
+        .iter()
+        .filter(|n| selected(n))
+        .map(|&name| Planned::Analytic(name))
+        .chain(mitsuba_cases.iter().filter(|c| selected(&c.name)).map(Planned::Mitsuba))
+        .collect();
+    let mut progress = Progress::new(&planned, args.quiet);
     let options = RunOptions { downsample: args.downsample as usize, spp: args.spp, threads, fault };
-    for case in mitsuba_cases.iter().filter(|c| selected(&c.name)) {
-        let (result, images) = run_case(&args.dir, case, &options).map_err(|e| CliError::Failed(e.into()))?;
-        print_result(&result);
-        results.push((result, Some(images)));
+    let mut results: Vec<Ran> = Vec::new();
+    for (index, case) in planned.iter().enumerate() {
+        progress.start(index);
+        let start = Instant::now();
+        let outcome = match case {
+            Planned::Analytic(name) => analytic::run(name, threads, fault).map(|result| (result, None)),
+            Planned::Mitsuba(case) => {
+                run_case(&args.dir, case, &options).map(|(result, images)| (result, Some(images)))
+            }
+        };
+        let (result, images) = outcome.map_err(|e| {
+            progress.finish();
+            CliError::Failed(e.into())
+        })?;
+        let seconds = start.elapsed().as_secs_f64();
+        progress.end(index, result.passed(), seconds);
+        results.push(Ran { result, images, kind: case.kind(), seconds });
     }
-    let failed: Vec<&str> =
-        results.iter().filter(|(r, _)| !r.passed()).map(|(r, _)| r.name.as_str()).collect();
-    say!("{} of {} cases passed", results.len() - failed.len(), results.len());
+    progress.finish();
 
-    if let Some(dir) = &args.report {
-        write_report(dir, &args.dir, &results, fault)?;
+    // The report first: what it prints (the Fresnel fixtures' figures) comes before the
+    // table, so that the verdict is the last line.
+    let report = args.report.as_ref().map(|dir| write_report(dir, &args.dir, &results, fault));
+    if let (Some(dir), Some(Ok(()))) = (&args.report, &report) {
         say!("wrote {}", dir.join("index.html").display());
     }
-    if failed.is_empty() {
+    let rows: Vec<(&CaseResult, Kind)> = results.iter().map(|ran| (&ran.result, ran.kind)).collect();
+    // Ignoring errors as `say!` does: a closed pipe must not turn the verdict into a panic.
+    let _ = write!(std::io::stdout(), "{}", summary::table(&rows));
+    report.transpose()?;
+    let verdict = Verdict::of(results.iter().map(|ran| &ran.result));
+    if verdict.failed.is_empty() {
         Ok(())
     } else {
-        Err(CliError::Failed(anyhow!("validation failed: {}", failed.join(", "))))
+        Err(CliError::Failed(anyhow!("validation failed: {}", verdict.failed.join(", "))))
     }
 }
 
-fn print_result(result: &CaseResult) {
-    for check in &result.checks {
-        say!(
-            "{:<28} {:<30} {:>12.4e} {:>12.4e}  {}",
-            result.name,
-            check.metric,
-            check.value,
-            check.threshold,
-            if check.passed() { "PASS" } else { "FAIL" }
+/// A case to run.
+enum Planned<'a> {
+    /// One of [`analytic::CASES`].
+    Analytic(&'static str),
+    /// A case with Mitsuba references.
+    Mitsuba(&'a cases::Case),
+}
+
+impl Planned<'_> {
+    fn name(&self) -> &str {
+        match self {
+            Planned::Analytic(name) => name,
+            Planned::Mitsuba(case) => &case.name,
+        }
+    }
+
+    fn kind(&self) -> Kind {
+        match self {
+            Planned::Analytic(name) => analytic::kind(name),
+            Planned::Mitsuba(case) => case.kind,
+        }
+    }
+}
+
+/// A case that has run.
+struct Ran {
+    result: CaseResult,
+    /// The images compared, for a case with Mitsuba references.
+    images: Option<CaseImages>,
+    kind: Kind,
+    /// Wall time of the case.
+    seconds: f64,
+}
+
+/// Progress on standard error: on a terminal, the running case with its time so far and the
+/// time left, each finished case printed above it as a line; elsewhere (CI, a log), one plain
+/// line per finished case, never a carriage return; with `--quiet`, nothing.
+struct Progress {
+    names: Vec<String>,
+    kinds: Vec<Kind>,
+    name_width: usize,
+    /// The cases done: kind and seconds.
+    done: Vec<(Kind, f64)>,
+    mode: ProgressMode,
+}
+
+enum ProgressMode {
+    Quiet,
+    Lines,
+    /// The bar, and the estimates its running line reads on every tick: the running case's
+    /// time and the time of the cases after it, as f64 bits (NaN when not known yet).
+    Terminal(ProgressBar, Arc<[AtomicU64; 2]>),
+}
+
+impl Progress {
+    fn new(planned: &[Planned], quiet: bool) -> Self {
+        let names: Vec<String> = planned.iter().map(|case| case.name().to_owned()).collect();
+        let mode = if quiet {
+            ProgressMode::Quiet
+        } else if std::io::stderr().is_terminal() {
+            let estimates =
+                Arc::new([AtomicU64::new(f64::NAN.to_bits()), AtomicU64::new(f64::NAN.to_bits())]);
+            let shared = Arc::clone(&estimates);
+            let note = move |state: &ProgressState, out: &mut dyn std::fmt::Write| {
+                let known = |bits: &AtomicU64| {
+                    Some(f64::from_bits(bits.load(Ordering::Relaxed))).filter(|s| !s.is_nan())
+                };
+                let text = summary::running_note(
+                    state.elapsed().as_secs_f64(),
+                    known(&shared[0]),
+                    known(&shared[1]),
+                );
+                let _ = out.write_str(&text);
+            };
+            let bar = ProgressBar::new(planned.len() as u64);
+            if let Ok(style) = ProgressStyle::with_template("{prefix} {note}") {
+                bar.set_style(style.with_key("note", note));
+            }
+            bar.enable_steady_tick(Duration::from_millis(250));
+            ProgressMode::Terminal(bar, estimates)
+        } else {
+            ProgressMode::Lines
+        };
+        Progress {
+            name_width: names.iter().map(|n| n.chars().count()).max().unwrap_or(0),
+            kinds: planned.iter().map(Planned::kind).collect(),
+            names,
+            done: Vec::new(),
+            mode,
+        }
+    }
+
+    /// Case `index` starts.
+    fn start(&self, index: usize) {
+        if let ProgressMode::Terminal(bar, estimates) = &self.mode {
+            let current = summary::time_left(&self.done, &self.kinds[index..=index]);
+            let rest = summary::time_left(&self.done, &self.kinds[index + 1..]);
+            for (estimate, value) in estimates.iter().zip([current, rest]) {
+                estimate.store(value.unwrap_or(f64::NAN).to_bits(), Ordering::Relaxed);
+            }
+            bar.reset_elapsed();
+            bar.set_position(index as u64);
+            bar.set_prefix(summary::progress_line(
+                index,
+                self.names.len(),
+                &self.names[index],
+                self.name_width,
+                None,
+            ));
+        }
+    }
+
+    /// Case `index` ended after `seconds`.
+    fn end(&mut self, index: usize, passed: bool, seconds: f64) {
+        self.done.push((self.kinds[index], seconds));
+        let line = summary::progress_line(
+            index,
+            self.names.len(),
+            &self.names[index],
+            self.name_width,
+            Some((passed, seconds)),
         );
+        match &self.mode {
+            ProgressMode::Quiet => {}
+            ProgressMode::Lines => eprintln!("{line}"),
+            ProgressMode::Terminal(bar, _) => bar.println(line),
+        }
+    }
+
+    /// Every case has run, or one could not (its error follows): the running line goes.
+    fn finish(&self) {
+        if let ProgressMode::Terminal(bar, _) = &self.mode {
+            bar.finish_and_clear();
+        }
     }
 }
 
@@ -177,23 +329,61 @@ fn html_text(text: &str) -> String {
     text.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
 }
 
-/// Writes the report's files into `dir`, all or none (staged, then committed together).
+/// `text` with its first letter in capitals.
+fn capitalised(text: &str) -> String {
+    let mut chars = text.chars();
+    chars.next().map(|first| first.to_uppercase().chain(chars).collect()).unwrap_or_default()
+}
+
+/// The kind and the time of a case, as the report's contents and sections show them.
+fn kind_and_time(ran: &Ran) -> String {
+    format!("{} · {}", ran.kind.label(), summary::duration(ran.seconds))
+}
+
+/// Writes the report's files into `dir`, all or none (staged, then committed together): the
+/// verdict first, with links to the failing cases, then the contents (a link to each case's
+/// section, anchored by its name), the result table, and a section per case.
 fn write_report(
     dir: &Path,
     validation_dir: &Path,
-    results: &[(CaseResult, Option<CaseImages>)],
+    results: &[Ran],
     fault: Option<Fault>,
 ) -> Result<(), CliError> {
     let failed = |e| output_error(e, "writing the report");
     let mut outputs = Outputs::new();
+    let verdict = Verdict::of(results.iter().map(|ran| &ran.result));
+    let verdict_class = if verdict.passed() { "pass" } else { "fail" };
+    let total_seconds: f64 = results.iter().map(|ran| ran.seconds).sum();
     let mut md = String::from("# prisma validation report\n\n");
     let mut html = String::from(
         "<!doctype html><html><head><meta charset=\"utf-8\"><title>prisma validation</title><style>\
          body{font-family:sans-serif;margin:2em;max-width:1400px}table{border-collapse:collapse}\
-         td,th{border:1px solid #ccc;padding:4px 8px}.pass{color:#060}.fail{color:#b00;font-weight:bold}\
+         td,th{border:1px solid #ccc;padding:4px 8px}td.num{text-align:right;font-family:monospace}\
+         .pass{color:#060}.fail{color:#b00;font-weight:bold}\
+         p.verdict{font-size:1.4em;padding:.6em 1em;border-radius:4px;margin:0 0 1em}\
+         p.verdict.pass{background:#e8f5e8;border:1px solid #8c8}p.verdict.fail{background:#fbeaea;border:1px solid #d88}\
+         ol.toc{columns:3;column-gap:2em;padding-left:2.5em}ol.toc li{break-inside:avoid;margin:2px 0}\
+         .kind{color:#666;font-size:.9em}section{border-top:1px solid #ddd;margin-top:2em}\
          img{image-rendering:pixelated;margin:4px;border:1px solid #ddd}figure{display:inline-block;margin:0}</style></head><body>\
-         <h1>prisma validation report</h1>",
+         <h1 id=\"top\">prisma validation report</h1>",
     );
+
+    // The verdict, the failing cases named and linked.
+    let headline = capitalised(&verdict.headline());
+    if verdict.failed.is_empty() {
+        let _ = writeln!(md, "**{headline}** ({}).\n", summary::duration(total_seconds));
+        let _ = write!(
+            html,
+            "<p class=\"verdict {verdict_class}\">{headline} <span class=\"kind\">({})</span></p>",
+            summary::duration(total_seconds)
+        );
+    } else {
+        let md_links: Vec<String> = verdict.failed.iter().map(|n| format!("[{n}](#{n})")).collect();
+        let html_links: Vec<String> =
+            verdict.failed.iter().map(|n| format!("<a href=\"#{0}\">{0}</a>", html_text(n))).collect();
+        let _ = writeln!(md, "**{headline}:** {}\n", md_links.join(", "));
+        let _ = write!(html, "<p class=\"verdict fail\">{headline}: {}</p>", html_links.join(", "));
+    }
     if let Some(fault) = fault {
         let _ = writeln!(md, "**Injected fault: {fault:?}** — cases that can see it must FAIL.\n");
         let _ = write!(
@@ -201,28 +391,54 @@ fn write_report(
             "<p class=\"fail\">Injected fault: {fault:?} — cases that can see it must FAIL.</p>"
         );
     }
-    let _ = writeln!(md, "| case | metric | value | threshold | result |\n|---|---|---|---|---|");
-    html.push_str(
-        "<table><tr><th>case</th><th>metric</th><th>value</th><th>threshold</th><th>result</th></tr>",
-    );
-    for (result, _) in results {
-        for check in &result.checks {
-            let verdict = if check.passed() { "PASS" } else { "FAIL" };
+
+    // Contents: every case's section, with its verdict, kind and time.
+    let _ = writeln!(md, "## Contents\n");
+    html.push_str("<h2 id=\"contents\">Contents</h2><ol class=\"toc\">");
+    for ran in results {
+        let (name, word) = (&ran.result.name, summary::verdict_word(ran.result.passed()));
+        let _ = writeln!(md, "1. [{name}](#{name}) {word}, {}", kind_and_time(ran));
+        let _ = write!(
+            html,
+            "<li><a href=\"#{0}\">{0}</a> <span class=\"{1}\">{word}</span> <span class=\"kind\">{2}</span></li>",
+            html_text(name),
+            word.to_lowercase(),
+            html_text(&kind_and_time(ran))
+        );
+    }
+    let _ = writeln!(md, "1. [Fresnel curves](#fresnel-curves-mitsuba-3-fixtures-against-prisma)\n");
+    html.push_str("<li><a href=\"#fresnel\">Fresnel curves</a></li></ol>");
+
+    // The result table, one row per check.
+    let header = summary::TABLE_HEADER.join(" | ");
+    let _ = writeln!(md, "| {header} |\n|{}", "---|".repeat(summary::TABLE_HEADER.len()));
+    html.push_str("<h2 id=\"results\">Results</h2><table><tr>");
+    for column in summary::TABLE_HEADER {
+        let _ = write!(html, "<th>{column}</th>");
+    }
+    html.push_str("</tr>");
+    for ran in results {
+        let name = &ran.result.name;
+        for check in &ran.result.checks {
+            let verdict = summary::verdict_word(check.passed());
             let _ = writeln!(
                 md,
-                "| {} | {} | {:.4e} | {:.4e} | {verdict} |",
-                md_cell(&result.name),
+                "| {} | {} | {} | {} | {} | {verdict} |",
+                md_cell(name),
+                ran.kind.label(),
                 md_cell(&check.metric),
-                check.value,
-                check.threshold
+                summary::scientific(check.value),
+                summary::scientific(check.threshold)
             );
             let _ = write!(
                 html,
-                "<tr><td>{}</td><td>{}</td><td>{:.4e}</td><td>{:.4e}</td><td class=\"{}\">{verdict}</td></tr>",
-                html_text(&result.name),
+                "<tr><td><a href=\"#{0}\">{0}</a></td><td>{1}</td><td>{2}</td><td class=\"num\">{3}</td>\
+                 <td class=\"num\">{4}</td><td class=\"{5}\">{verdict}</td></tr>",
+                html_text(name),
+                ran.kind.label(),
                 html_text(&check.metric),
-                check.value,
-                check.threshold,
+                summary::scientific(check.value),
+                summary::scientific(check.threshold),
                 verdict.to_lowercase()
             );
         }
@@ -239,10 +455,38 @@ fn write_report(
         .stage(&z_scale, |sink| encode_png(sink, &z_scale, scale_width as u32, 16, &scale, 0.0))
         .map_err(failed)?;
 
-    for (result, images) in results {
-        let _ = writeln!(md, "\n## {}\n\n{}\n", result.name, result.why);
-        let _ = write!(html, "<h2>{}</h2><p>{}</p>", html_text(&result.name), html_text(&result.why));
-        let Some(images) = images else { continue };
+    for ran in results {
+        let (result, word) = (&ran.result, summary::verdict_word(ran.result.passed()));
+        let _ =
+            writeln!(md, "\n## {}\n\n**{word}** · {}\n\n{}\n", result.name, kind_and_time(ran), result.why);
+        let _ = write!(
+            html,
+            "<section id=\"{0}\"><h2>{0} <span class=\"{1}\">{word}</span></h2><p class=\"kind\">{2} · \
+             <a href=\"#top\">top</a></p><p>{3}</p>",
+            html_text(&result.name),
+            word.to_lowercase(),
+            html_text(&kind_and_time(ran)),
+            html_text(&result.why)
+        );
+        let checks: Vec<String> = result
+            .checks
+            .iter()
+            .map(|check| {
+                format!(
+                    "{} = {} (≤ {}) <span class=\"{}\">{}</span>",
+                    html_text(&check.metric),
+                    summary::scientific(check.value),
+                    summary::scientific(check.threshold),
+                    summary::verdict_word(check.passed()).to_lowercase(),
+                    summary::verdict_word(check.passed())
+                )
+            })
+            .collect();
+        let _ = write!(html, "<p>{}</p>", checks.join("<br>"));
+        let Some(images) = &ran.images else {
+            html.push_str("</section>");
+            continue;
+        };
         let (w, h) = (images.mitsuba.width as u32, images.mitsuba.height as u32);
         let scale = exposure_scale(&images.mitsuba);
         let files = [
@@ -267,11 +511,11 @@ fn write_report(
                 (w * 2).min(420)
             );
         }
-        let _ = write!(html, "<figure><img src=\"z_scale.png\" width=\"256\"><figcaption>z from −{Z_OUTLIER} to +{Z_OUTLIER}</figcaption></figure>");
+        let _ = write!(html, "<figure><img src=\"z_scale.png\" width=\"256\"><figcaption>z from −{Z_OUTLIER} to +{Z_OUTLIER}</figcaption></figure></section>");
     }
 
     let _ = writeln!(md, "\n## Fresnel curves: Mitsuba 3 fixtures against prisma\n");
-    html.push_str("<h2>Fresnel curves: Mitsuba 3 fixtures against prisma</h2>");
+    html.push_str("<section id=\"fresnel\"><h2>Fresnel curves: Mitsuba 3 fixtures against prisma</h2>");
     let fixtures = validation_dir.parent().unwrap_or(Path::new(".")).join("tests/fixtures");
     for name in ["fresnel_dielectric", "fresnel_polarized", "fresnel_conductor"] {
         let csv = fixtures.join(format!("{name}.csv"));
@@ -283,7 +527,7 @@ fn write_report(
         let _ = writeln!(md, "![{name}]({png})\n\nlargest |prisma − Mitsuba| = {largest:.2e}\n");
         let _ = write!(html, "<figure><img src=\"{png}\" width=\"900\"><figcaption>{name}: largest |prisma − Mitsuba| = {largest:.2e}</figcaption></figure>");
     }
-    html.push_str("</body></html>");
+    html.push_str("</section></body></html>");
     for (file, text) in [("report.md", &md), ("index.html", &html)] {
         let path = dir.join(file);
         outputs.stage(&path, |sink| text_into(sink, &path, text)).map_err(failed)?;

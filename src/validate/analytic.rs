@@ -5,7 +5,7 @@
 
 use std::path::Path;
 
-use super::{CaseResult, Check, ValidateError};
+use super::{CaseResult, Check, Kind, ValidateError};
 use crate::integrator::Fault;
 use crate::optics::catalogue;
 use crate::render::{render, Job};
@@ -53,6 +53,16 @@ pub fn reference_reflectances(cos_i: f64, n_i: f64, n_t: f64) -> (f64, f64) {
     let r_s = (n_i * cos_i - n_t * cos_t) / (n_i * cos_i + n_t * cos_t);
     let r_p = (n_t * cos_i - n_i * cos_t) / (n_t * cos_i + n_i * cos_t);
     (r_s * r_s, r_p * r_p)
+}
+
+/// What the analytic case `name` is compared with: the electric-field tracer for the
+/// polarisation cases, a closed-form answer for the others.
+pub fn kind(name: &str) -> Kind {
+    if super::polarization::CASES.contains(&name) {
+        Kind::FieldTracer
+    } else {
+        Kind::Analytic
+    }
 }
 
 /// Runs the analytic case `name` with `threads` threads and an optional injected `fault`.

@@ -19,7 +19,7 @@ use std::path::Path;
 
 use serde::Deserialize;
 
-use super::ValidateError;
+use super::{Kind, ValidateError};
 
 /// Default prisma samples per pixel of each of the two renders of a case.
 pub const DEFAULT_SPP: u32 = 256;
@@ -84,6 +84,9 @@ pub struct Case {
     /// references: Mitsuba's `ptracer` renders mirrors and glass black).
     #[serde(default)]
     pub mask: Option<String>,
+    /// What the case is compared with, from the file that lists it (not a key of the file).
+    #[serde(skip)]
+    pub kind: Kind,
 }
 
 fn polarized_by_default() -> bool {
@@ -97,15 +100,19 @@ fn polarized_by_default() -> bool {
 pub const CASE_FILES: [&str; 4] =
     ["cases.toml", "caustic_cases.toml", "polarised_cases.toml", "colour_cases.toml"];
 
+/// The kind of the cases of each of [`CASE_FILES`], in the same order.
+const CASE_FILE_KINDS: [Kind; 4] =
+    [Kind::Mitsuba, Kind::MitsubaPtracer, Kind::MitsubaPolarised, Kind::MitsubaPrismaCmf];
+
 /// Reads every case of [`CASE_FILES`] in `validation_dir` (only `cases.toml` must exist).
 pub fn load(validation_dir: &Path) -> Result<Vec<Case>, ValidateError> {
     let mut all = Vec::new();
-    for (index, file) in CASE_FILES.iter().enumerate() {
+    for (index, (file, kind)) in CASE_FILES.iter().zip(CASE_FILE_KINDS).enumerate() {
         let path = validation_dir.join(file);
         if index > 0 && !path.exists() {
             continue;
         }
-        all.extend(load_file(&path)?);
+        all.extend(load_file(&path)?.into_iter().map(|case| Case { kind, ..case }));
     }
     Ok(all)
 }

@@ -10,6 +10,7 @@ pub mod field;
 pub mod metrics;
 pub mod mitsuba;
 pub mod polarization;
+pub mod summary;
 
 /// The outcome of one validation case.
 #[derive(Debug, Clone)]
@@ -44,6 +45,46 @@ impl CaseResult {
     /// True when every check passes.
     pub fn passed(&self) -> bool {
         !self.checks.is_empty() && self.checks.iter().all(Check::passed)
+    }
+}
+
+/// What a case is compared with: the `kind` column of `prisma validate`'s table and report, and
+/// the classes by which it estimates the time left.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Kind {
+    /// An answer computed in closed form (furnaces, Snell's window, the slab's transmittance).
+    Analytic,
+    /// A Stokes vector from the independent electric-field tracer of [`field`].
+    FieldTracer,
+    /// Mitsuba 3 references, monochromatic or through Mitsuba's colour pipeline (`cases.toml`).
+    #[default]
+    Mitsuba,
+    /// Mitsuba 3's particle tracer `ptracer` against prisma's light tracer (`caustic_cases.toml`).
+    MitsubaPtracer,
+    /// Mitsuba 3's polarised variants (`polarised_cases.toml`).
+    MitsubaPolarised,
+    /// Mitsuba 3's spectra through prisma's colour pipeline, its CIE table and matrix
+    /// (`colour_cases.toml`).
+    MitsubaPrismaCmf,
+}
+
+impl Kind {
+    /// The short label printed in the `kind` column.
+    pub fn label(self) -> &'static str {
+        match self {
+            Kind::Analytic => "analytic",
+            Kind::FieldTracer => "field tracer",
+            Kind::Mitsuba => "Mitsuba",
+            Kind::MitsubaPtracer => "Mitsuba ptracer",
+            Kind::MitsubaPolarised => "Mitsuba polarised",
+            Kind::MitsubaPrismaCmf => "Mitsuba, prisma CMF",
+        }
+    }
+
+    /// True for cases that render two full images and compare them with reference images: they
+    /// take seconds to minutes, where an analytic case takes milliseconds to seconds.
+    pub fn compares_images(self) -> bool {
+        !matches!(self, Kind::Analytic | Kind::FieldTracer)
     }
 }
 
