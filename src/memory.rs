@@ -1,23 +1,49 @@
 //! Memory a render needs, estimated before it starts, against what the process may use, so that
 //! a resolution that cannot fit is refused at once instead of aborting after the whole render
-//! (32768² pixels need about 70 GB).
+//! (32768² pixels need about 600 GB polarised).
 //!
-//! The estimate is per pixel, measured (peak resident memory of `prisma render` of
-//! `scenes/tp6_mirror_glass.toml` at 2048², 1 spp, EXR and PNG written): the tiles' means and the
-//! assembled film (XYZ of S0, and of S1–S3 when polarised), the linear sRGB copies, the EXR
-//! channels and the encoder's compressed blocks, the PNG bytes: 142 bytes per pixel unpolarised,
-//! 158 polarised, and about 8.5 more per spectral band value (`--spectral-bands 16`, polarised:
-//! 64 values, 705 bytes per pixel). [`BYTES_PER_PIXEL`] and [`BYTES_PER_BAND_VALUE`] keep a
-//! margin over these. What the process may use is
-//! the smallest of the memory the kernel reports available, the address-space limit
-//! (`ulimit -v`) less what is mapped already, and the cgroup's limit less its usage; where none
-//! of these can be read, nothing is refused.
+//! The estimate is per pixel and per value summed per pixel (3 XYZ values per Stokes component,
+//! 1 for a monochromatic render, plus the spectral band values), fitted to the peak resident
+//! memory of `prisma render scenes/tp6_mirror_glass.toml --spp 1` at 1024² and 2048² (the slope
+//! between the two sizes, so that fixed costs drop out; `tests/memory_estimate.rs` measures it
+//! again):
+//!
+//! | render | values | measured bytes per pixel |
+//! |---|---|---|
+//! | unpolarised | 3 | 156 |
+//! | polarised (the default) | 12 | 445 |
+//! | polarised, `--part` | 12 | 511 |
+//! | polarised, `--spectral-bands 16` | 76 | 2481 |
+//! | polarised, `--caustics` (light sums of S0: 3 values) | 12 + 3 | 518 |
+//!
+//! | monochromatic (`--wavelength`), polarised | 4 | 216 |
+//!
+//! A least-squares reading of these: about 60 bytes per pixel (camera and PNG buffers), 12 per
+//! Stokes component (the film's XYZ, three f32 even when monochromatic), 28 per colour value (its
+//! exact sum, 24 bytes, and its EXR channel), 32 per band value (its sum, the film's f32 and its
+//! channel), 24 per light-tracer value, and a part's stored sum channels about 5.5 more per
+//! value (implied words are left out). The constants below keep a margin of 5 to 25 % over these
+//! (the part allowance is counted for every render: the renderer does not know whether its sums
+//! will be written). What the process may use is the smallest of the
+//! memory the kernel reports available, the address-space limit (`ulimit -v`) less what is mapped
+//! already, and the cgroup's limit less its usage; where none of these can be read, nothing is
+//! refused.
 
-/// Bytes of memory a render and its output need per pixel without spectral bands (measured 142
-/// unpolarised, 158 polarised; see the module doc).
-pub const BYTES_PER_PIXEL: u64 = 176;
-/// Bytes more per pixel for each spectral band value (bands × Stokes components; measured 8.5).
-pub const BYTES_PER_BAND_VALUE: u64 = 10;
+use crate::film::FilmLayout;
+
+/// Bytes per pixel of every render (measured about 60; see the module doc).
+pub const BYTES_PER_PIXEL: u64 = 64;
+/// Bytes per pixel for each Stokes component (measured 12).
+pub const BYTES_PER_COMPONENT: u64 = 12;
+/// Bytes per pixel for each colour value (measured 28).
+pub const BYTES_PER_COLOUR_VALUE: u64 = 29;
+/// Bytes per pixel for each spectral band value (measured 32).
+pub const BYTES_PER_BAND_VALUE: u64 = 33;
+/// Bytes per pixel for each value of a part's stored sum channels (measured 5.5; up to 24 when
+/// every word of a sum must be stored).
+pub const PART_BYTES_PER_VALUE: u64 = 6;
+/// Bytes per pixel for each light-tracer value (measured 24).
+pub const LIGHT_BYTES_PER_VALUE: u64 = 26;
 
 /// A render that would not fit.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -44,10 +70,15 @@ fn gigabytes(bytes: u64) -> String {
     format!("{:.1} GB", bytes as f64 * 1e-9)
 }
 
-/// Bytes a `width`×`height` render with `band_values` spectral band values per pixel needs,
-/// with `extra` bytes of fixed cost (thread stacks).
-pub fn estimate(width: u32, height: u32, band_values: usize, extra: u64) -> u64 {
-    let per_pixel = BYTES_PER_PIXEL + band_values as u64 * BYTES_PER_BAND_VALUE;
+/// Bytes a `width`×`height` render of `layout` with `light_values` light-tracer values per
+/// pixel needs, with `extra` bytes of fixed cost (thread stacks).
+pub fn estimate(width: u32, height: u32, layout: &FilmLayout, light_values: usize, extra: u64) -> u64 {
+    let per_pixel = BYTES_PER_PIXEL
+        + layout.components() as u64 * BYTES_PER_COMPONENT
+        + (layout.colour_values() * layout.components()) as u64 * BYTES_PER_COLOUR_VALUE
+        + layout.band_values() as u64 * BYTES_PER_BAND_VALUE
+        + layout.values_per_pixel() as u64 * PART_BYTES_PER_VALUE
+        + light_values as u64 * LIGHT_BYTES_PER_VALUE;
     u64::from(width) * u64::from(height) * per_pixel + extra
 }
 

@@ -185,14 +185,12 @@ pub enum RenderError {
     NonFinite(#[from] NonFinitePixel),
 }
 
-/// Bytes of memory a render of `width`×`height` pixels of `layout` on `threads` threads needs, with its
-/// EXR and PNG output ([`memory::estimate`]), and its exact sums: the camera's, the light
-/// tracer's of `light` (if any), and as much again for a part file's channels; with light
-/// sums, once more for those of the blocks done, set aside while a block's light passes are
-/// traced ([`WindowSums::swap_light`]). A pass holds nothing per light path: its blocks are
-/// ranges, not a list, each thread's splats are one block's, and the guide's record
-/// is of at most [`guide::MAX_LEARNING_PATHS`] paths (a few hundred kB, within the fixed costs'
-/// margin).
+/// Bytes of memory a render of `width`×`height` pixels of `layout` on `threads` threads needs,
+/// with its EXR and PNG output and its exact sums, the light tracer's of `light` (if any)
+/// included ([`memory::estimate`], fitted to measured peaks). A pass holds nothing per light
+/// path: its blocks are ranges, not a list, each thread's splats are one block's, and the
+/// guide's record is of at most [`guide::MAX_LEARNING_PATHS`] paths (a few hundred kB, within
+/// the fixed costs' margin).
 pub fn memory_needed(
     width: u32,
     height: u32,
@@ -200,10 +198,8 @@ pub fn memory_needed(
     threads: usize,
     light: Option<&FilmLayout>,
 ) -> u64 {
-    let light_values = light.map_or(0, FilmLayout::values_per_pixel) as u64;
-    let values = (layout.values_per_pixel() as u64 + light_values) * 2 + light_values;
-    let sums = u64::from(width) * u64::from(height) * values * std::mem::size_of::<FixedSum>() as u64;
-    memory::estimate(width, height, layout.band_values(), threads as u64 * THREAD_STACK_BYTES as u64) + sums
+    let light_values = light.map_or(0, FilmLayout::values_per_pixel);
+    memory::estimate(width, height, layout, light_values, threads as u64 * THREAD_STACK_BYTES as u64)
 }
 
 /// A render's exact sums and what they hold.
