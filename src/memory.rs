@@ -144,12 +144,20 @@ fn cgroup_left() -> Option<u64> {
 mod tests {
     use super::*;
 
-    /// The largest accepted image, 32768², needs 176 B × 2³⁰ ≈ 189 GB: more than any of the
-    /// project's machines (24 GB), so it must be refused up front. Spectral bands add to it.
+    /// The largest accepted image, 32768², needs 181 B × 2³⁰ ≈ 194 GB unpolarised: more than
+    /// any of the project's machines (24 GB), so it must be refused up front. The estimate is
+    /// the sum of its per-pixel parts (see the module doc).
     #[test]
     fn the_largest_accepted_image_needs_tens_of_gigabytes() {
-        assert_eq!(estimate(32_768, 32_768, 0, 0), 176 << 30);
-        assert_eq!(estimate(1000, 1000, 16, 7), 1000 * 1000 * (176 + 160) + 7);
+        let unpolarized = FilmLayout { stokes: false, bands: None, monochromatic_nm: None };
+        assert_eq!(estimate(32_768, 32_768, &unpolarized, 0, 0), 181 << 30);
+        let bands = crate::film::SpectralBands { count: 16, min_nm: 400.0, max_nm: 700.0 };
+        let polarized = FilmLayout { stokes: true, bands: Some(bands), monochromatic_nm: None };
+        // 64 + 4·12 + 12·29 + 64·33 + 76·6 + 3·26 bytes per pixel.
+        assert_eq!(
+            estimate(1000, 1000, &polarized, 3, 7),
+            1000 * 1000 * (64 + 48 + 348 + 2112 + 456 + 78) + 7
+        );
     }
 
     #[test]
