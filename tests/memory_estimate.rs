@@ -11,6 +11,8 @@ use prisma::film::{FilmLayout, SpectralBands};
 
 /// Peak resident memory in bytes of `prisma render ARGS` (the child's `ru_maxrss`).
 fn peak_bytes(args: &[&str]) -> u64 {
+    // Reaped by wait4 below, which also gives its peak memory (std's wait does not).
+    #[allow(clippy::zombie_processes)]
     let child = Command::new(env!("CARGO_BIN_EXE_prisma")).args(args).spawn().expect("prisma runs");
     let mut status = 0;
     // SAFETY: an all-zero rusage is a valid value for wait4 to fill.
