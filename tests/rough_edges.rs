@@ -51,3 +51,47 @@ fn negative_numbers_need_no_equals_sign() {
     let output = prisma(&["render", "x.toml", "--wavelength", "-5"]);
     assert!(String::from_utf8_lossy(&output.stderr).contains("--wavelength must be in"));
 }
+
+/// Issue 38: `--spp -4` said "unexpected argument"; a missing argument was not named.
+#[test]
+fn negative_counts_and_missing_arguments_are_named() {
+    let output = prisma(&["render", "scenes/tp6_point.toml", "--spp", "-4"]);
+    let message = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(2), "{message}");
+    assert!(message.contains("-4 is not in 1..="), "{message}");
+    let output = prisma(&["merge", "a.exr"]);
+    let message = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(message.lines().count(), 1, "{message}");
+    assert!(message.contains("not provided: --output <OUT.exr>"), "{message}");
+}
+
+/// Issue 38: the README's caustic render of a scene replaced its Whitted render at the same
+/// default name. Caustics turned on (or off) by a flag now name the output, and a default output
+/// that holds a render of other settings is replaced with a warning.
+#[test]
+fn default_outputs_of_different_settings_do_not_collide_silently() {
+    let dir = tempfile::tempdir().expect("temporary directory");
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/tp6_mirror_glass.toml");
+    let run = |extra: &[&str]| {
+        let mut args = vec!["render", scene, "--width", "16", "--height", "12", "--spp", "1", "-q"];
+        args.extend_from_slice(extra);
+        let output = Command::new(env!("CARGO_BIN_EXE_prisma"))
+            .args(&args)
+            .current_dir(dir.path())
+            .output()
+            .expect("runs");
+        assert!(output.status.success(), "{output:?}");
+        String::from_utf8_lossy(&output.stderr).into_owned()
+    };
+    assert_eq!(run(&[]), "");
+    assert_eq!(run(&["--caustics", "--light-paths", "1000"]), "");
+    for name in ["tp6_mirror_glass.exr", "tp6_mirror_glass_with_caustics.exr"] {
+        assert!(dir.path().join("out").join(name).exists(), "{name}");
+    }
+    let warned = run(&["--seed", "7"]);
+    assert!(
+        warned.contains("warning: replacing out/tp6_mirror_glass.exr, a render of other seed"),
+        "{warned}"
+    );
+    assert_eq!(run(&["--seed", "7"]), "", "the same settings again: no warning");
+}

@@ -226,10 +226,16 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     })?;
     let input = |e: anyhow::Error| CliError::Input(e);
 
-    let stem = match args.wavelength {
+    // The default name says what the command line changed that makes another image than the
+    // scene file's (a wavelength, caustics turned on or off), so that the README's Whitted and
+    // caustic renders of one scene do not replace each other.
+    let mut stem = match args.wavelength {
         Some(nm) => format!("{}_{nm}nm", scene.name),
         None => scene.name.clone(),
     };
+    if settings.caustics != scene.settings.caustics {
+        stem.push_str(if settings.caustics { "_with_caustics" } else { "_without_caustics" });
+    }
     let exr_path = args.output.clone().unwrap_or_else(|| Path::new("out").join(format!("{stem}.exr")));
     let destinations = Destinations::check(&exr_path, args.preview.as_deref(), args.stats.as_deref())?;
     let mut inputs: Vec<(&Path, &str)> = Vec::new();
@@ -290,6 +296,9 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     );
     header.samples = samples.clone();
     header.threads = threads;
+    if args.output.is_none() {
+        warn_if_replacing_another_render(&destinations.exr, &header);
+    }
     if let Some(prior) = &prior {
         let resumed = args.resume.as_deref().unwrap_or(Path::new("")).display();
         if let Some((what, theirs, mine)) = prior.header.mismatch(&header) {
@@ -500,6 +509,29 @@ const PROGRESS_LOG_EVERY: std::time::Duration = std::time::Duration::from_secs(1
 /// A test hook: the environment variable that stops a render after that many sample blocks, as
 /// Ctrl-C would (the interruption tests use it instead of timing a signal).
 pub const STOP_AFTER_BLOCKS_VARIABLE: &str = "PRISMA_TEST_STOP_AFTER_BLOCKS";
+
+/// Warns when the default output `exr` holds a prisma render of other settings, scene, seed,
+/// samples or size than `header`'s, which this render will replace (a name given with `-o` is
+/// the user's choice and replaced without a word).
+fn warn_if_replacing_another_render(exr: &Path, header: &PartHeader) {
+    let Ok(summary) = prisma::part::file::read_summary(exr) else { return };
+    let theirs = |name: &str| summary.attribute(name).unwrap_or_default();
+    let differs = [
+        ("settings", theirs("prisma.settings") != header.settings),
+        ("scene", theirs("prisma.sceneSha256") != header.scene_sha256),
+        ("seed", theirs("prisma.seed") != header.seed.to_string()),
+        ("spp", theirs("prisma.spp") != header.spp.to_string()),
+        ("size", summary.display != header.display),
+    ];
+    let what: Vec<&str> = differs.iter().filter(|(_, d)| *d).map(|(what, _)| *what).collect();
+    if summary.attribute("prisma.version").is_some() && !what.is_empty() {
+        eprintln!(
+            "warning: replacing {}, a render of other {} (give -o a name to keep both)",
+            exr.display(),
+            what.join(", ")
+        );
+    }
+}
 
 /// The `--resume` file's name for messages.
 fn prior_name(resume: &Option<PathBuf>) -> String {
