@@ -75,9 +75,11 @@ const LIGHT_BLOCKS_PER_CHUNK: u64 = 4096;
 const LIGHT_PATH_SEED_SALT: u64 = 0x6c69_6768_7470_6174;
 /// When a render without a terminal logs its first progress line.
 const FIRST_PROGRESS_LOG: Duration = Duration::from_secs(1);
-/// Wall time a sample block aims at: how long a stop may wait, and how often the progress
-/// estimate is refreshed at the least.
-pub const TARGET_BLOCK_SECONDS: f64 = 2.0;
+/// Wall time a sample block aims at: how long a stop may wait (the camera samples of a block
+/// are not interrupted; its light passes are, within a block of 512 light paths), and how often
+/// the progress estimate is refreshed at the least. One second, as a user expects Ctrl-C to
+/// answer (issue 37).
+pub const TARGET_BLOCK_SECONDS: f64 = 1.0;
 
 /// What to render, beyond the scene.
 #[derive(Debug, Clone)]

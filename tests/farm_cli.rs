@@ -36,6 +36,22 @@ fn render(dir: &Path, name: &str, extra: &[&str]) -> std::path::PathBuf {
     out
 }
 
+/// `prisma render` of the test scene into `out`, stopped after its first sample block as
+/// Ctrl-C would stop it (the test hook).
+fn interrupted_render(out: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_prisma"))
+        .args(["render", SCENE, "--width", "48", "--height", "27", "--spp", "6", "-o", out.to_str().unwrap()])
+        .env("PRISMA_TEST_STOP_AFTER_BLOCKS", "1")
+        .output()
+        .unwrap()
+}
+
+/// `prisma render --resume PARTIAL -o OUT` of the test scene; what it printed.
+fn resume(partial: &Path, out: &Path) -> String {
+    let (partial, out) = (partial.to_str().unwrap(), out.to_str().unwrap());
+    ok(&["render", SCENE, "--width", "48", "--height", "27", "--resume", partial, "-o", out])
+}
+
 fn refused(args: &[&str], expected: &str) {
     let output = prisma(args);
     let stderr = String::from_utf8_lossy(&output.stderr);
@@ -147,11 +163,7 @@ fn an_interrupted_render_writes_a_part_and_resumes() {
     let whole = render(dir.path(), "whole.exr", &["--part"]);
     let out = dir.path().join("image.exr");
     std::fs::write(&out, "an earlier render").unwrap();
-    let output = Command::new(env!("CARGO_BIN_EXE_prisma"))
-        .args(["render", SCENE, "--width", "48", "--height", "27", "--spp", "6", "-o", out.to_str().unwrap()])
-        .env("PRISMA_TEST_STOP_AFTER_BLOCKS", "1")
-        .output()
-        .unwrap();
+    let output = interrupted_render(&out);
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert_eq!(output.status.code(), Some(130), "{stderr}");
     assert!(stderr.contains("interrupted: wrote samples 0..1 of 0..6"), "{stderr}");
@@ -159,19 +171,7 @@ fn an_interrupted_render_writes_a_part_and_resumes() {
     let partial = dir.path().join("image.partial.exr");
     assert_eq!(info(&partial, "samples"), "0..1");
     let resumed = dir.path().join("resumed.exr");
-    ok(&[
-        "render",
-        SCENE,
-        "--width",
-        "48",
-        "--height",
-        "27",
-        "-q",
-        "--resume",
-        partial.to_str().unwrap(),
-        "-o",
-        resumed.to_str().unwrap(),
-    ]);
+    resume(&partial, &resumed);
     assert_eq!(info(&resumed, "samples"), "0..6");
     assert_eq!(info(&resumed, "parts"), "2");
     for key in ["imageSha256", "sumsBlake3"] {
@@ -399,44 +399,17 @@ fn a_complete_merge_writes_the_finished_image_and_its_preview() {
 fn a_finished_resume_removes_its_own_partial_file() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("image.exr");
-    let interrupted = Command::new(env!("CARGO_BIN_EXE_prisma"))
-        .args(["render", SCENE, "--width", "48", "--height", "27", "--spp", "6", "-o", out.to_str().unwrap()])
-        .env("PRISMA_TEST_STOP_AFTER_BLOCKS", "1")
-        .output()
-        .unwrap();
+    let interrupted = interrupted_render(&out);
     assert_eq!(interrupted.status.code(), Some(130));
     let stderr = String::from_utf8_lossy(&interrupted.stderr);
     assert!(!stderr.contains("error:"), "an interrupt is not an error: {stderr}");
     let partial = dir.path().join("image.partial.exr");
     let copy = dir.path().join("copy.exr");
     std::fs::copy(&partial, &copy).unwrap();
-    let said = ok(&[
-        "render",
-        SCENE,
-        "--width",
-        "48",
-        "--height",
-        "27",
-        "--resume",
-        partial.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-    ]);
+    let said = resume(&partial, &out);
     assert!(said.contains("removed") && !partial.exists(), "{said}");
     assert_eq!(info(&out, "samples"), "0..6");
     let other = dir.path().join("other.exr");
-    ok(&[
-        "render",
-        SCENE,
-        "--width",
-        "48",
-        "--height",
-        "27",
-        "-q",
-        "--resume",
-        copy.to_str().unwrap(),
-        "-o",
-        other.to_str().unwrap(),
-    ]);
+    resume(&copy, &other);
     assert!(copy.exists(), "a part resumed into another name is kept");
 }
