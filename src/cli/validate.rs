@@ -99,7 +99,18 @@ pub fn run(args: &ValidateArgs) -> Result<(), CliError> {
         analytic::CASES.iter().copied().chain(mitsuba_cases.iter().map(|c| c.name.as_str())).collect();
     for wanted in &args.cases {
         if !known.contains(&wanted.as_str()) {
-            return Err(CliError::Input(anyhow!("unknown case \"{wanted}\"; known: {}", known.join(", "))));
+            // Names that hold what was typed first (`tp6_quad` → `tp6_quad_polarized`, …).
+            let close: Vec<&str> =
+                known.iter().copied().filter(|name| name.contains(wanted.as_str())).collect();
+            let hint = match close.is_empty() {
+                true => String::new(),
+                false => format!("did you mean {}? ", close.join(", ")),
+            };
+            return Err(CliError::Input(anyhow!(
+                "unknown case \"{wanted}\"; {hint}all {}: {}",
+                known.len(),
+                known.join(", ")
+            )));
         }
     }
     let selected = |name: &str| args.cases.is_empty() || args.cases.iter().any(|c| c == name);
