@@ -109,6 +109,12 @@ def wrap_degrees(angle):
     return wrapped
 
 
+def cx(index):
+    """An index n + ik as "n k", shortest round-trip form."""
+    index = complex(index)
+    return f"{index.real!r} {index.imag!r}"
+
+
 def row(ambient, layers, substrate, wavelength, theta_deg):
     n_list = [ambient] + [n for n, _ in layers] + [substrate]
     d_list = [np.inf] + [d for _, d in layers] + [np.inf]
@@ -137,8 +143,11 @@ def main():
         path = os.path.join(OUT, f"thin_film_{name}.csv")
         with open(path, "w", newline="\n") as f:
             f.write(f"# thin film '{name}': {description}\n")
-            f.write(f"# layers (index, thickness nm) from the ambient side: "
-                    f"{[(repr(n), repr(d)) for n, d in layers]}\n")
+            # Machine-readable stack, read by tests/thin_film_fixtures.rs: "re im" indices
+            # (n + ik), layers as "re im thickness_nm" from the ambient side, ";"-separated.
+            f.write(f"# ambient: {cx(ambient)}\n")
+            f.write("# layers: " + "; ".join(f"{cx(n)} {d!r}" for n, d in layers) + "\n")
+            f.write(f"# substrate: {cx(substrate)}\n")
             f.write(f"# tmm {importlib.metadata.version('tmm')}, "
                     f"numpy {np.__version__}, Python {python}; coh_tmm and ellips in float64\n")
             f.write(f"# generated {date} by: validation/thinfilm/.venv/bin/python "
