@@ -51,11 +51,10 @@
 //! # In a scene (not implemented yet)
 //! The renderer does not use coatings yet (issue 41); the scene syntax planned for them is
 //! ```toml
-//! [[materials]]
-//! name = "coated_lens"
+//! [materials.coated_lens]
 //! type = "dielectric"
-//! ior = "N-BK7"
-//! coating = [ { ior = 1.38, thickness_nm = 99.64 } ]   # quarter-wave MgF₂ at 550 nm
+//! ior = { glass = "N-BK7" }
+//! coating = [{ ior = 1.38, thickness_nm = 99.64 }]   # quarter-wave MgF₂ at 550 nm, air side first
 //! ```
 
 use num_complex::Complex64;
@@ -135,7 +134,9 @@ impl ThinFilmAmplitudes {
 /// `n_ambient` (> 0) at `cos_theta_i` in [0, 1] (measured in the ambient). `n_substrate` is
 /// n + ik, k ≥ 0 (a metal too). Zero layers give the bare interface's Fresnel amplitudes.
 ///
-/// Never NaN for finite inputs with cos θ_i > 0 or n_substrate ≠ n_ambient. Debug builds
+/// Never NaN for finite inputs, layers at their critical angle and grazing incidence included
+/// (where R = 1 and T = 0, unless every medium has the ambient's index: then r = 0, t = 1,
+/// as for a bare index-matched interface). Debug builds
 /// panic on a negative thickness, a non-positive wavelength or ambient index, or cos θ_i
 /// outside [0, 1] (beyond rounding).
 pub fn thin_film_amplitudes(
@@ -162,9 +163,12 @@ pub fn thin_film_amplitudes(
     for layer in layers {
         debug_assert!(layer.thickness_nm >= 0.0, "thickness {} nm", layer.thickness_nm);
         let medium = Medium::new(layer.index, invariant_sqr);
-        let beta = medium.n_cos * (std::f64::consts::TAU * layer.thickness_nm / lambda_nm);
-        s = s.then(beta, medium.admittance_s());
-        p = p.then(beta, medium.admittance_p());
+        // β = k d · n cos θ with k = 2π/λ; the matrices need β/y = k d (s) and k d n² (p).
+        let wavenumber_thickness = std::f64::consts::TAU * layer.thickness_nm / lambda_nm;
+        let beta = medium.n_cos * wavenumber_thickness;
+        let index_sqr = medium.index * medium.index;
+        s = s.then(beta, medium.admittance_s(), Complex64::new(wavenumber_thickness, 0.0));
+        p = p.then(beta, medium.admittance_p(), index_sqr * wavenumber_thickness);
     }
     let (r_s, t_s, transmittance_s) = s.solve(ambient.admittance_s(), substrate.admittance_s());
     let (r_p, t_p_h, transmittance_p) = p.solve(ambient.admittance_p(), substrate.admittance_p());
@@ -231,11 +235,15 @@ impl Characteristic {
         Self { m11: one, m12: zero, m21: zero, m22: one }
     }
 
-    /// This product times the next layer's matrix [[cos β, i sin β / y], [i y sin β, cos β]].
-    fn then(self, beta: Complex64, admittance: Complex64) -> Self {
-        let (cos, i_sin) = (beta.cos(), Complex64::i() * beta.sin());
-        // i sin β / y and i y sin β are even in y (and so in the choice of root), as is cos β.
-        let (l11, l12, l21, l22) = (cos, i_sin / admittance, i_sin * admittance, cos);
+    /// This product times the next layer's matrix [[cos β, i sin β / y], [i y sin β, cos β]],
+    /// given β, y and β / y (finite where y = 0: a layer at its critical angle, or of the
+    /// ambient's index at grazing incidence, where sin β / y → β / y).
+    fn then(self, beta: Complex64, admittance: Complex64, beta_over_admittance: Complex64) -> Self {
+        let i = Complex64::i();
+        // sin β / y = sinc β · β / y; i sin β / y and i y sin β are even in y (and so in the
+        // choice of root), as is cos β.
+        let (cos, sinc) = (beta.cos(), sinc(beta));
+        let (l11, l12, l21, l22) = (cos, i * sinc * beta_over_admittance, i * beta.sin() * admittance, cos);
         Self {
             m11: self.m11 * l11 + self.m12 * l21,
             m12: self.m11 * l12 + self.m12 * l22,
@@ -250,12 +258,30 @@ impl Characteristic {
         let b = self.m11 + self.m12 * y_substrate;
         let c = self.m21 + self.m22 * y_substrate;
         let denominator = y_ambient * b + c;
+        if denominator.norm_sqr() == 0.0 {
+            // Only at grazing incidence (y₀ = 0; for y₀ > 0 a passive stack's input
+            // admittance C/B has Re ≥ 0, and B, C never vanish together since det M = 1) on a
+            // stack whose input admittance vanishes too, as when every medium has the ambient's
+            // index: no interface, as `fresnel_dielectric_amplitudes` answers for eta = 1.
+            return (Complex64::new(0.0, 0.0), Complex64::new(1.0, 0.0), 1.0);
+        }
         let r = (y_ambient * b - c) / denominator;
         let t = 2.0 * y_ambient / denominator;
         // T = Re(y_sub) |t|² / y₀ = 4 y₀ Re(y_sub) / |y₀ B + C|²: no division by y₀, so
         // grazing incidence (y₀ = 0) gives T = 0.
         let transmittance = 4.0 * y_ambient.re * y_substrate.re / denominator.norm_sqr();
         (r, t, transmittance)
+    }
+}
+
+/// sin z / z, 1 at z = 0.
+fn sinc(z: Complex64) -> Complex64 {
+    // Below |z| = 1e-3 the series' next term z⁶/5040 is < 2e-22, far under f64 rounding of 1.
+    if z.norm_sqr() < 1e-6 {
+        let z_sqr = z * z;
+        1.0 - z_sqr / 6.0 + z_sqr * z_sqr / 120.0
+    } else {
+        z.sin() / z
     }
 }
 
@@ -415,6 +441,34 @@ mod tests {
         assert!((below.delta().abs() - std::f64::consts::PI).abs() < 1e-12, "{below:?}");
         assert!(above.delta().abs() < 1e-12, "{above:?}");
         assert!((below.psi().tan() - (below.r_p / below.r_s).norm()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_layer_at_its_critical_angle_is_finite_and_continuous() {
+        // From glass (1.5) into MgF₂ (1.38) at sin θ = 1.38/1.5: the layer's n cos θ = 0, its
+        // admittance vanishes and sin β / y → β / y. The result must be finite and the limit
+        // of its neighbours (a first-order change of 1e-9 in cos θi moves r by ~1e-9 · |dr|).
+        let layers = [Layer::dielectric(1.38, 80.0), Layer::dielectric(2.05, 60.0)];
+        let sin_critical = 1.38_f64 / 1.5;
+        let cos_critical = (1.0 - sin_critical * sin_critical).sqrt();
+        // Exactly: this cos θi rounds so that the layer's n cos θ is 0, not merely small.
+        let invariant_sqr = 1.5 * 1.5 * (1.0 - cos_critical * cos_critical);
+        assert_eq!(Medium::new(real(1.38), invariant_sqr).n_cos, real(0.0));
+        let at = thin_film_amplitudes(1.5, &layers, real(1.0), 550.0, cos_critical);
+        let near = thin_film_amplitudes(1.5, &layers, real(1.0), 550.0, cos_critical + 1e-9);
+        for (a, b) in [(at.r_s, near.r_s), (at.r_p, near.r_p)] {
+            assert!(a.re.is_finite() && a.im.is_finite(), "{at:?}");
+            assert!((a - b).norm() < 1e-6, "{at:?} {near:?}");
+        }
+        assert!(at.absorptance_s().abs() < 1e-13 && at.absorptance_p().abs() < 1e-13, "{at:?}");
+    }
+
+    #[test]
+    fn grazing_incidence_on_matched_media_is_no_interface() {
+        // Ambient, layer and substrate of one index at cos θi = 0: y₀ = y = y_sub = 0.
+        let a = thin_film_amplitudes(1.333, &[Layer::dielectric(1.333, 50.0)], real(1.333), 550.0, 0.0);
+        assert_eq!((a.r_s, a.t_s, a.transmittance_s), (real(0.0), real(1.0), 1.0), "{a:?}");
+        assert_eq!((a.r_p, a.t_p, a.transmittance_p), (real(0.0), real(1.0), 1.0), "{a:?}");
     }
 
     #[test]
