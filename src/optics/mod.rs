@@ -1,8 +1,8 @@
 //! Optics as pure functions of angles and indices: Fresnel equations for dielectrics and
 //! conductors, mirror reflection and Snell refraction, index-of-refraction models, published
-//! dispersion formulas and the glass catalogue shipped in `data/glasses.toml`, and measured
-//! n + ik of metals in `data/metals/`. Nothing here knows about rays, scenes or spectra beyond
-//! a wavelength in nm.
+//! dispersion formulas and the glass catalogue shipped in `data/glasses.toml`, measured n + ik
+//! of metals in `data/metals/`, and thin-film stacks (transfer matrices). Nothing here knows
+//! about rays, scenes or spectra beyond a wavelength in nm.
 
 pub mod catalogue;
 pub mod conductor;
@@ -11,6 +11,7 @@ pub mod fresnel;
 pub mod ior;
 pub mod metals;
 pub mod snell;
+pub mod thin_film;
 
 pub use conductor::{fresnel_conductor, fresnel_conductor_amplitudes, ConductorFresnel};
 pub use fresnel::{
@@ -18,3 +19,4 @@ pub use fresnel::{
 };
 pub use ior::{Ior, IorError};
 pub use snell::{reflect, refract};
+pub use thin_film::{thin_film_amplitudes, Layer, ThinFilmAmplitudes};
