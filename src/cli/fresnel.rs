@@ -1,8 +1,13 @@
 //! `prisma fresnel`: Fresnel reflectance curves (Rs, Rp, R against the angle of incidence, from
 //! outside and from inside) and the phases of r_s and r_p with their difference δ, as CSV and
-//! plots, and plots of Mitsuba fixtures with prisma's curves overlaid.
+//! plots, and plots of Mitsuba fixtures with prisma's curves overlaid; the curves of a coated
+//! interface (`--coating`, [`coating`]) and the interference colour chart of a free-standing
+//! film (`--film-colours`, [`film`]), both by the transfer-matrix method of
+//! [`prisma::optics::thin_film`] (issue 41).
 
+mod coating;
 mod curves;
+mod film;
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -14,16 +19,18 @@ use num_complex::Complex32;
 use plotters::style::RGBColor;
 
 use super::plot::{
-    check_plot_path, encode_chart, encode_chart_grid, palette, LegendEntry, LegendPlace, Marker, Panel,
-    Series, Style,
+    check_plot_path, encode_chart, encode_chart_grid, encode_color_strip, palette, LegendEntry, LegendPlace,
+    Marker, Panel, PlotFormat, Series, Style,
 };
 use super::{output_error, say, CliError};
+use coating::Against;
 use curves::Reflection;
 use prisma::optics::catalogue;
 use prisma::optics::conductor::fresnel_conductor;
 use prisma::optics::fresnel::fresnel_dielectric_amplitudes;
 use prisma::optics::{fresnel_dielectric, metals, Ior};
-use prisma::output::file::{check_destination, check_not_inputs, text_into, Outputs};
+use prisma::output::file::{check_destination, check_not_inputs, text_into, Outputs, Sink};
+use prisma::output::OutputError;
 
 /// The phase convention, as the plots' subtitles and the CSV header state it.
 const PHASE_CONVENTION: &str =
@@ -66,6 +73,30 @@ pub struct FresnelArgs {
     /// largest difference.
     #[arg(long, value_name = "FILE.csv")]
     fixture: Option<PathBuf>,
+    /// Coat the `--ior` interface with coherent layers, listed from the incident (vacuum) side,
+    /// comma-separated, each INDEX:THICKNESS_NM (thickness 0–10000 nm, at most 64 layers).
+    /// INDEX is a number, n+ki, a glass or a metal, as `--ior` takes them, evaluated at each
+    /// wavelength: "1.38:99.64" is a quarter-wave MgF₂ layer at 550 nm. The plot shows Rs, Rp,
+    /// R (and the uncoated R), Ts, Tp, T and the phases of r_s, r_p; the CSV has the angle or
+    /// wavelength, rs, rp, r, ts, tp, t, phase_rs_deg, phase_rp_deg, psi_deg, delta_deg
+    /// (ellipsometric ψ and Δ = arg r_p − arg r_s, same phase convention) and r_bare.
+    #[arg(long, value_name = "INDEX:NM,...", conflicts_with = "fixture", allow_hyphen_values = true)]
+    coating: Option<String>,
+    /// What a coating's curves are drawn against: `angle` (0–90° in 0.25° steps, at
+    /// `--wavelength`) or `wavelength` (360–830 nm in 1 nm steps, at `--angle`).
+    #[arg(long, value_enum, value_name = "AXIS", default_value_t = Against::Angle)]
+    against: Against,
+    /// Angle of incidence in degrees (0–90) for `--against wavelength` and `--film-colours`.
+    #[arg(long, value_name = "DEG", default_value_t = 0.0, allow_negative_numbers = true)]
+    angle: f64,
+    /// The interference colour chart of a free-standing film of the `--ior` index in vacuum
+    /// (a soap film: `--ior 1.333`), seen in reflection at `--angle` under D65: a strip of the
+    /// reflected colour against thickness 0–1500 nm, over R at 450, 550 and 650 nm and the
+    /// luminous reflectance Y. The CSV has thickness_nm, X, Y, Z and linear sRGB R, G, B (a
+    /// perfect white reflector has Y = 1); the strip is shown brighter (its factor is in the
+    /// subtitle), clipped to the sRGB gamut.
+    #[arg(long, conflicts_with_all = ["coating", "fixture"])]
+    film_colours: bool,
 }
 
 /// The interface whose curves are drawn.
@@ -161,24 +192,49 @@ pub fn run(args: &FresnelArgs) -> Result<(), CliError> {
     if !(args.wavelength.is_finite() && (200.0..=2000.0).contains(&args.wavelength)) {
         return Err(CliError::Input(anyhow!("--wavelength must be in 200–2000 nm, got {}", args.wavelength)));
     }
-    let interface = parse_spec(spec, args.wavelength).map_err(CliError::Input)?;
+    if !(args.angle.is_finite() && (0.0..=90.0).contains(&args.angle)) {
+        return Err(CliError::Input(anyhow!("--angle must be in 0–90 degrees, got {}", args.angle)));
+    }
+    if args.coating.is_none() && args.against != Against::Angle {
+        return Err(CliError::Input(anyhow!("--against wavelength draws a coating: add --coating")));
+    }
+    if args.film_colours {
+        return run_film(args, spec, plot_format);
+    }
+    if let Some(coating) = &args.coating {
+        return run_coating(args, spec, coating, plot_format);
+    }
+    let interface = parse_spec(spec, args.wavelength, "--ior").map_err(CliError::Input)?;
     let table = Table::new(&interface);
     let csv = table.csv(&interface, args.wavelength);
+    write_outputs(args, &csv, plot_format, |sink, path, format| {
+        let panels = curve_panels(&interface, &table, args.wavelength);
+        // Reflectances on the first row, phases under them.
+        let columns = panels.len() / 2;
+        encode_chart_grid(sink, path, format, &panels, columns, (640, 480))
+    })
+}
+
+/// Writes `csv` to `-o` (or prints it when there is neither `-o` nor `--plot`) and the plot
+/// `draw` makes to `--plot`, both or neither.
+fn write_outputs(
+    args: &FresnelArgs,
+    csv: &str,
+    plot_format: Option<PlotFormat>,
+    draw: impl FnOnce(&mut Sink, &Path, PlotFormat) -> Result<(), OutputError>,
+) -> Result<(), CliError> {
     if args.output.is_none() && args.plot.is_none() {
         say!("{}", csv.trim_end());
     }
     let mut outputs = Outputs::new();
     if let Some(path) = &args.output {
         outputs
-            .stage(path, |sink| text_into(sink, path, &csv))
+            .stage(path, |sink| text_into(sink, path, csv))
             .map_err(|e| output_error(e, "writing the CSV"))?;
     }
     if let (Some(path), Some(format)) = (&args.plot, plot_format) {
-        let panels = curve_panels(&interface, &table, args.wavelength);
-        // Reflectances on the first row, phases under them.
-        let columns = panels.len() / 2;
         outputs
-            .stage(path, |sink| encode_chart_grid(sink, path, format, &panels, columns, (640, 480)))
+            .stage(path, |sink| draw(sink, path, format))
             .map_err(|e| output_error(e, "writing the plot"))?;
     }
     outputs.commit().map_err(|e| output_error(e, "writing the outputs"))?;
@@ -186,6 +242,44 @@ pub fn run(args: &FresnelArgs) -> Result<(), CliError> {
         say!("wrote {}", path.display());
     }
     Ok(())
+}
+
+/// `prisma fresnel --coating`: the stack's curves against angle or wavelength.
+fn run_coating(
+    args: &FresnelArgs,
+    substrate: &str,
+    coating: &str,
+    plot_format: Option<PlotFormat>,
+) -> Result<(), CliError> {
+    let layers = coating::parse_coating(coating).map_err(CliError::Input)?;
+    // Every index is resolved, at every wavelength, before anything is written.
+    let rows = coating::table(substrate, &layers, args.against, f64::from(args.wavelength), args.angle)
+        .map_err(CliError::Input)?;
+    let csv = coating::csv(&rows, args.against);
+    write_outputs(args, &csv, plot_format, |sink, path, format| {
+        let place = match args.against {
+            Against::Angle => format!("at {} nm", args.wavelength),
+            Against::Wavelength => format!("at θi = {}°", args.angle),
+        };
+        let title = format!("vacuum → layers {coating} (index:nm) → {substrate}, {place}");
+        let panels = coating::panels(&rows, args.against, &title);
+        encode_chart_grid(sink, path, format, &panels, panels.len(), (640, 520))
+    })
+}
+
+/// `prisma fresnel --film-colours`: the interference colour chart of a free-standing film.
+fn run_film(args: &FresnelArgs, spec: &str, plot_format: Option<PlotFormat>) -> Result<(), CliError> {
+    let index_per_nm = (360..=830)
+        .map(|lambda| coating::index_at(spec, f64::from(lambda), "--ior"))
+        .collect::<anyhow::Result<Vec<_>>>()
+        .map_err(CliError::Input)?;
+    let cos_theta_i = args.angle.to_radians().cos().clamp(0.0, 1.0);
+    let colours = film::chart(&index_per_nm, cos_theta_i);
+    let csv = film::csv(&colours);
+    write_outputs(args, &csv, plot_format, |sink, path, format| {
+        let strip = film::strip(&colours, &index_per_nm, spec, args.angle, cos_theta_i);
+        encode_color_strip(sink, path, format, &strip, 1400, 420)
+    })
 }
 
 /// `text` as one CSV field: quoted when it holds a comma or a quote.
@@ -335,23 +429,24 @@ fn curve_panels(interface: &Interface, table: &Table, wavelength_nm: f32) -> Vec
     }
 }
 
-/// Parses an interface SPEC at `wavelength_nm`.
-fn parse_spec(spec: &str, wavelength_nm: f32) -> anyhow::Result<Interface> {
+/// Parses an interface SPEC at `wavelength_nm`; errors name `flag`, the option that gave it
+/// (`--ior`, or "the index" of a `--coating` layer, whose error names the layer around it).
+fn parse_spec(spec: &str, wavelength_nm: f32, flag: &str) -> anyhow::Result<Interface> {
     let spec = spec.trim();
     let numbers = |list: &str, count: usize, what: &str| -> anyhow::Result<Vec<f32>> {
         let values: Result<Vec<f32>, _> = list.split(',').map(|v| v.trim().parse::<f32>()).collect();
         match values {
             Ok(v) if v.len() == count && v.iter().all(|x| x.is_finite()) => Ok(v),
-            _ => bail!("--ior {what}: expected {count} comma-separated finite numbers, got \"{list}\""),
+            _ => bail!("{flag} {what}: expected {count} comma-separated finite numbers, got \"{list}\""),
         }
     };
     let dielectric = |ior: Ior, label: String| -> anyhow::Result<Interface> {
-        ior.validate().map_err(|e| anyhow!("--ior {spec}: {e}"))?;
+        ior.validate().map_err(|e| anyhow!("{flag} {spec}: {e}"))?;
         Ok(Interface::Dielectric { n: ior.eval(wavelength_nm), label })
     };
     if let Ok(n) = spec.parse::<f32>() {
         if !(n.is_finite() && n > 0.0) {
-            bail!("--ior must be finite and > 0, got {spec}");
+            bail!("{flag} must be finite and > 0, got {spec}");
         }
         return dielectric(Ior::Constant(n), "dielectric".into());
     }
@@ -395,7 +490,7 @@ fn parse_spec(spec: &str, wavelength_nm: f32) -> anyhow::Result<Interface> {
         }
     }
     bail!(
-        "--ior \"{spec}\" is not a number, cauchy:A,B,C, sellmeier:B1,B2,B3,C1,C2,C3, n+ki, a glass ({}) or a metal ({})",
+        "{flag} \"{spec}\" is not a number, cauchy:A,B,C, sellmeier:B1,B2,B3,C1,C2,C3, n+ki, a glass ({}) or a metal ({})",
         catalogue::glass_names().join(", "),
         metals::metal_names().join(", ")
     )

@@ -254,6 +254,103 @@ pub fn encode_png_compact(
         })
 }
 
+/// A strip of colours against x (an interference colour chart): each cell runs from its x to
+/// the next cell's (the last to the end of `x_range`), drawn above `panel`, whose plot area it
+/// shares in x, so that a colour lines up with the curve under it.
+#[derive(Debug, Clone)]
+pub struct ColorStrip {
+    /// Title above the strip.
+    pub title: String,
+    /// A smaller line under the title; none when empty.
+    pub subtitle: String,
+    /// (x where the cell starts, its colour), in increasing x.
+    pub cells: Vec<(f64, RGBColor)>,
+    /// The chart drawn under the strip, over the same x range.
+    pub panel: Panel,
+}
+
+/// Height in pixels of the title, subtitle and strip of a [`ColorStrip`] figure.
+const STRIP_HEIGHT: u32 = 230;
+
+/// Draws `strip` (the colours on top, its panel under them), `width` pixels wide and
+/// `panel_height` more for the panel, as `format` into `sink` (errors name `path`).
+pub fn encode_color_strip(
+    sink: &mut Sink,
+    path: &Path,
+    format: PlotFormat,
+    strip: &ColorStrip,
+    width: u32,
+    panel_height: u32,
+) -> Result<(), OutputError> {
+    let codec = |message: String| OutputError::Codec { path: path.display().to_string(), message };
+    register_font().map_err(|e| codec(e.to_string()))?;
+    let size = (width, STRIP_HEIGHT + panel_height);
+    match format {
+        PlotFormat::Svg => {
+            let mut svg = String::new();
+            {
+                let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
+                draw_strip(&root, strip)
+                    .and_then(|()| root.present().map_err(|e| e.to_string()))
+                    .map_err(codec)?;
+            }
+            text_into(sink, path, &svg)
+        }
+        PlotFormat::Png => {
+            let mut pixels = vec![0u8; size.0 as usize * size.1 as usize * 3];
+            {
+                let root = BitMapBackend::with_buffer(&mut pixels, size).into_drawing_area();
+                draw_strip(&root, strip)
+                    .and_then(|()| root.present().map_err(|e| e.to_string()))
+                    .map_err(codec)?;
+            }
+            encode_png_compact(sink, path, &pixels, size)
+        }
+    }
+}
+
+fn draw_strip<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, strip: &ColorStrip) -> Result<(), String> {
+    let failed = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    root.fill(&WHITE).map_err(failed)?;
+    let (top, bottom) = root.split_vertically(STRIP_HEIGHT);
+    let titled = top.margin(8, 0, 0, 0).titled(&strip.title, (FONT, 20)).map_err(failed)?;
+    let area = if strip.subtitle.is_empty() {
+        titled
+    } else {
+        titled.titled(&strip.subtitle, (FONT, 13).into_font().color(&RGBColor(70, 70, 70))).map_err(failed)?
+    };
+    let (x_start, x_end) = strip.panel.x_range;
+    // The same margins and label areas as a panel's, so that the strip's x matches the plot's.
+    let mut chart = ChartBuilder::on(&area)
+        .margin(CHART_MARGIN)
+        .margin_top(6)
+        .x_label_area_size(X_LABEL_AREA)
+        .y_label_area_size(Y_LABEL_AREA)
+        .build_cartesian_2d(x_start..x_end, 0.0..1.0)
+        .map_err(failed)?;
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .disable_y_axis()
+        .x_desc(&strip.panel.x_label)
+        .x_label_formatter(&|value: &f64| format!("{value:.0}"))
+        .label_style((FONT, 14))
+        .axis_desc_style((FONT, 15))
+        .draw()
+        .map_err(failed)?;
+    let ends = strip.cells.iter().skip(1).map(|&(x, _)| x).chain(std::iter::once(x_end));
+    chart
+        .draw_series(
+            strip
+                .cells
+                .iter()
+                .zip(ends)
+                .map(|(&(x, color), end)| Rectangle::new([(x, 0.0), (end, 1.0)], color.filled())),
+        )
+        .map_err(failed)?;
+    draw_panel(&bottom, &strip.panel).map_err(failed)
+}
+
 fn draw<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     panels: &[Panel],
@@ -333,6 +430,10 @@ fn draw_panel<DB: DrawingBackend>(
         .bold_line_style(RGBColor(200, 200, 200));
     if !panel.y_ticks.is_empty() {
         mesh.y_label_formatter(&whole_numbers);
+    }
+    // Wavelengths and thicknesses in nm read better without a ".0" on every tick.
+    if panel.x_range.1 - panel.x_range.0 >= 100.0 {
+        mesh.x_label_formatter(&whole_numbers);
     }
     mesh.draw()?;
     let grey = RGBColor(90, 90, 90);

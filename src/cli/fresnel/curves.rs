@@ -11,7 +11,7 @@
 //! equal just above +180°, so that a negative real coefficient always reads ≈ 180°, whatever
 //! the sign of the rounding in its imaginary part.
 
-use num_complex::Complex32;
+use num_complex::{Complex32, Complex64};
 
 use prisma::optics::{fresnel_conductor, fresnel_conductor_amplitudes, fresnel_dielectric_amplitudes};
 
@@ -49,7 +49,12 @@ impl Reflection {
 /// The phase of `z` in degrees, in (−179.999, 180.001]: (−180, 180] with the phases within
 /// 0.001° of −180° moved to their equals near +180°; 0 for z = 0.
 pub fn phase_deg(z: Complex32) -> f64 {
-    let degrees = f64::from(z.im).atan2(f64::from(z.re)).to_degrees();
+    phase_deg_f64(Complex64::new(f64::from(z.re), f64::from(z.im)))
+}
+
+/// [`phase_deg`] of a double-precision coefficient (those of a coating).
+pub fn phase_deg_f64(z: Complex64) -> f64 {
+    let degrees = z.im.atan2(z.re).to_degrees();
     // Rounding of a negative real coefficient leaves its imaginary part ±tiny; both signs are
     // the same phase, and one value reads better in tables and plots.
     if degrees <= -179.999 {
