@@ -253,3 +253,75 @@ fn wrong_coatings_fail_the_comparison() {
     eprintln!("reversed stack: {error:.3e}");
     assert!(error > 50.0 * TOLERANCE, "the reversed stack is only {error:.3e} away");
 }
+
+/// The refracted branches: a plane-parallel slab (n = 1.5) coated on both faces, before a
+/// uniform emitter of radiance L on black, seen at incidence θ, transmits
+/// L·½[(1 − R_s)/(1 + R_s) + (1 − R_p)/(1 + R_p)] with R the coating's reflectance at θ (the
+/// slab is thick, so its faces add incoherently; a lossless stack reflects the same power from
+/// both sides at Snell-related angles, so both faces share R, and T = 1 − R): the stack's T in
+/// the camera branch, the radiance scaling n² in and 1/n² out, and the reversed stack inside.
+/// Unpolarised transport averages s and p at each face, so its series is that of
+/// R = (R_s + R_p)/2. The bare slab's value is far off (the fault check).
+#[test]
+fn a_slab_coated_on_both_faces_transmits_the_stack_series() {
+    let mut worst = 0.0_f64;
+    for layers in [QUARTER_WAVE, TWO_LAYERS] {
+        let coating = layers
+            .iter()
+            .map(|(n, d)| format!("{{ ior = {n}, thickness_nm = {d} }}"))
+            .collect::<Vec<_>>()
+            .join(", ");
+        for theta_deg in [0.0_f64, 30.0, 60.0, 80.0] {
+            let (sin, cos) = theta_deg.to_radians().sin_cos();
+            for polarized in [false, true] {
+                let text = format!(
+                    "[camera]\nposition = [{px}, 0, {pz}]\nlook_at = [0, 0, 0.5]\nfov_y_deg = 0.2\nwidth = 8\nheight = 8\n\
+                     [render]\nspp = 4\nmax_depth = 20\nprune_below = 0\npolarized = {polarized}\n\
+                     [materials.glass]\ntype = \"dielectric\"\nior = {GLASS}\ncoating = [{coating}]\n\
+                     [[shapes]]\ntype = \"quad\"\ncorner = [-1000, -1000, 0]\nedge1 = [0, 2000, 0]\nedge2 = [2000, 0, 0]\nmaterial = \"glass\"\n\
+                     [[shapes]]\ntype = \"quad\"\ncorner = [-1000, -1000, 1]\nedge1 = [2000, 0, 0]\nedge2 = [0, 2000, 0]\nmaterial = \"glass\"\n\
+                     [[lights]]\ntype = \"quad\"\ncorner = [-5000, -5000, 60]\nedge1 = [10000, 0, 0]\nedge2 = [0, 10000, 0]\nradiance = {RADIANCE}\nemit = \"edge2_cross_edge1\"\n",
+                    px = -10.0 * sin,
+                    pz = 0.5 - 10.0 * cos,
+                );
+                let mut scene =
+                    prisma::scene::parse(&text, Path::new("<coated_slab>")).expect("the scene loads");
+                // R^64 is negligible: the slab's ray tree is a chain.
+                scene.settings.max_depth = 64;
+                let job = Job {
+                    threads: 2,
+                    monochromatic_nm: Some(LAMBDA_NM as f32),
+                    ..Job::new(scene.settings.clone())
+                };
+                let film = render(&scene, &job).expect("the render succeeds").0;
+                let seen = film.xyz().iter().map(|p| f64::from(p.y)).sum::<f64>() / film.xyz().len() as f64;
+                let series =
+                    |(r_s, r_p): (f64, f64)| 0.5 * ((1.0 - r_s) / (1.0 + r_s) + (1.0 - r_p) / (1.0 + r_p));
+                // Unpolarised transport averages s and p at each interface (scenes/README.md):
+                // its series is (1 − R)/(1 + R) of R = (R_s + R_p)/2.
+                let (r_s, r_p) = reflectances(layers, Side::Outside, cos);
+                let expected = if polarized {
+                    RADIANCE * series((r_s, r_p))
+                } else {
+                    let average = 0.5 * (r_s + r_p);
+                    RADIANCE * series((average, average))
+                };
+                let bare = RADIANCE * series(reflectances(&[], Side::Outside, cos));
+                let error = (seen / expected - 1.0).abs();
+                eprintln!(
+                    "{layers:?} {theta_deg}° polarized={polarized}: seen {seen:.6}, expected {expected:.6} \
+                     (bare {bare:.6}), rel error {error:.3e}"
+                );
+                assert!(error < 1e-4, "{layers:?} {theta_deg}°: transmitted {seen} against {expected}");
+                if theta_deg < 70.0 {
+                    assert!(
+                        (bare / expected - 1.0).abs() > 100.0 * 1e-4,
+                        "{layers:?} {theta_deg}°: bare too close"
+                    );
+                }
+                worst = worst.max(error);
+            }
+        }
+    }
+    eprintln!("worst relative error of the coated slab: {worst:.3e}");
+}
