@@ -35,6 +35,9 @@ pub struct Dielectric {
     pub coating: Vec<CoatingLayer>,
 }
 
+/// Coatings of up to this many layers are evaluated in a short array.
+const SHORT_COATING: usize = 8;
+
 /// One coherent layer of a coating.
 #[derive(Debug, Clone)]
 pub struct CoatingLayer {
@@ -72,8 +75,26 @@ impl Dielectric {
     /// vacuum, substrate the glass); from the inside in reverse (ambient the glass, substrate
     /// vacuum). Under total internal reflection the transmission is zero.
     pub fn coated_interface(&self, cos_theta_i: f32, n_glass: f32, lambda_nm: f32) -> CoatedInterface {
-        let mut layers = [Layer::dielectric(1.0, 0.0); MAX_COATING_LAYERS];
-        let count = self.coating.len().min(MAX_COATING_LAYERS);
+        // The layers at this wavelength, in the order the light crosses them, on the stack: a
+        // short array for the common short coatings, the longest accepted otherwise.
+        if self.coating.len() <= SHORT_COATING {
+            let mut layers = [Layer::dielectric(1.0, 0.0); SHORT_COATING];
+            self.coated_with(&mut layers, cos_theta_i, n_glass, lambda_nm)
+        } else {
+            let mut layers = [Layer::dielectric(1.0, 0.0); MAX_COATING_LAYERS];
+            self.coated_with(&mut layers, cos_theta_i, n_glass, lambda_nm)
+        }
+    }
+
+    /// [`Self::coated_interface`] with `layers` (at least as long as the coating) to fill.
+    fn coated_with(
+        &self,
+        layers: &mut [Layer],
+        cos_theta_i: f32,
+        n_glass: f32,
+        lambda_nm: f32,
+    ) -> CoatedInterface {
+        let count = self.coating.len().min(layers.len());
         let from_inside = cos_theta_i < 0.0;
         for (slot, layer) in self.coating[..count].iter().enumerate() {
             let at = if from_inside { count - 1 - slot } else { slot };
