@@ -325,3 +325,76 @@ fn a_slab_coated_on_both_faces_transmits_the_stack_series() {
     }
     eprintln!("worst relative error of the coated slab: {worst:.3e}");
 }
+
+/// The light tracer through coated glass: a point light (I = 1 W·sr⁻¹·nm⁻¹ at 550 nm) inside a
+/// coated glass sphere (n = 1.5) inside a closed cube of white (ρ = 1) walls, as the
+/// `caustic_power` validation case: every light path leaves the glass (through the reversed
+/// stack from inside, total internal reflection included, and the stack from outside on the
+/// way back in), and a lossless stack has R + T = 1 per lane, so the six walls (read off six
+/// renders sharing their light paths) receive the 4π W·nm⁻¹ emitted, to float rounding. The
+/// fault that scales light paths by 1/η² at refractions, applied to the coated branch too, must
+/// break it.
+#[test]
+fn the_light_tracer_conserves_power_through_coated_glass() {
+    let received = |fault: Option<prisma::integrator::Fault>| {
+        let walls: [([f64; 3], [f64; 3]); 6] = [
+            ([0.0, 0.0, 1.0], [0.0, 1.0, 0.0]),
+            ([0.0, 0.0, -1.0], [0.0, 1.0, 0.0]),
+            ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0]),
+            ([-1.0, 0.0, 0.0], [0.0, 1.0, 0.0]),
+            ([0.0, 1.0, 0.0], [0.0, 0.0, 1.0]),
+            ([0.0, -1.0, 0.0], [0.0, 0.0, 1.0]),
+        ];
+        let fmt = |v: [f64; 3]| format!("[{}, {}, {}]", v[0], v[1], v[2]);
+        let cross = |a: [f64; 3], b: [f64; 3]| {
+            [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+        };
+        let mut shapes = String::new();
+        for (normal, up) in &walls {
+            let side = cross(*up, *normal);
+            let corner: [f64; 3] = std::array::from_fn(|i| 3.0 * normal[i] - 3.0 * side[i] - 3.0 * up[i]);
+            shapes += &format!(
+                "[[shapes]]\ntype = \"quad\"\ncorner = {}\nedge1 = {}\nedge2 = {}\nmaterial = \"white\"\n",
+                fmt(corner),
+                fmt(side.map(|c| 6.0 * c)),
+                fmt(up.map(|c| 6.0 * c)),
+            );
+        }
+        let size = 64u32;
+        let mut total = 0.0_f64;
+        for (normal, up) in &walls {
+            let text = format!(
+                "[camera]\nposition = {p}\nlook_at = {l}\nup = {u}\nfov_y_deg = {fov}\nwidth = {size}\nheight = {size}\n\
+                 [render]\nspp = 1\nmax_depth = 64\ncaustics = true\nlight_paths = 150000\nseed = 5\n\
+                 [materials.glass]\ntype = \"dielectric\"\nior = {GLASS}\n\
+                 coating = [{{ ior = 1.38, thickness_nm = 99.64 }}, {{ ior = 2.1, thickness_nm = 65.5 }}]\n\
+                 [materials.white]\ntype = \"diffuse\"\nalbedo = 1\n\
+                 [[shapes]]\ntype = \"sphere\"\ncenter = [0, 0, 0]\nradius = 1\nmaterial = \"glass\"\n{shapes}\
+                 [[lights]]\ntype = \"point\"\nposition = [0.35, 0.2, -0.25]\nintensity = 1\n",
+                p = fmt(normal.map(|c| 2.0 * c)),
+                l = fmt(normal.map(|c| 3.0 * c)),
+                u = fmt(*up),
+                fov = 2.0 * 3f64.atan().to_degrees(),
+            );
+            let scene = prisma::scene::parse(&text, Path::new("<coated_power>")).expect("the scene loads");
+            let job = Job {
+                threads: 2,
+                monochromatic_nm: Some(LAMBDA_NM as f32),
+                fault,
+                ..Job::new(scene.settings.clone())
+            };
+            let film = render(&scene, &job).expect("the render succeeds").0;
+            let pixel_area = (6.0 / f64::from(size)).powi(2);
+            total +=
+                film.xyz().iter().map(|p| std::f64::consts::PI * f64::from(p.y) * pixel_area).sum::<f64>();
+        }
+        total
+    };
+    let emitted = 4.0 * std::f64::consts::PI;
+    let error = (received(None) / emitted - 1.0).abs();
+    eprintln!("coated sphere: |received/emitted − 1| = {error:.3e}");
+    assert!(error < 1e-4, "coated glass loses or makes power: {error:.3e}");
+    let faulty = (received(Some(prisma::integrator::Fault::LightPathRadianceScaling)) / emitted - 1.0).abs();
+    eprintln!("with radiance scaling on light paths: {faulty:.3e}");
+    assert!(faulty > 100.0 * 1e-4, "the fault is only {faulty:.3e} off");
+}
