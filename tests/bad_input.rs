@@ -300,3 +300,33 @@ fn bad_edge_sample_counts_are_rejected() {
         assert!(!produced);
     }
 }
+
+/// Issue 41: a coating's layers are checked at load, each error naming the layer's field.
+#[test]
+fn bad_coatings_are_rejected() {
+    let coated = |coating: &str| GOOD.replace("ior = 1.5", &format!("ior = 1.5\ncoating = {coating}"));
+    let line = at_line_of(GOOD, "[materials.glass]");
+    for thickness in ["0", "-5", "nan", "inf", "1e6"] {
+        assert_rejected(
+            &coated(&format!("[{{ ior = 1.38, thickness_nm = {thickness} }}]")),
+            &[&line, "materials.glass.coating[0].thickness_nm"],
+        );
+    }
+    assert_rejected(
+        &coated("[{ ior = 1.38, thickness_nm = 100 }, { ior = 0, thickness_nm = 100 }]"),
+        &[&line, "materials.glass.coating[1].ior"],
+    );
+    assert_rejected(
+        &coated("[{ ior = { glass = \"unobtainium\" }, thickness_nm = 100 }]"),
+        &["materials.glass.coating[0].ior", "unobtainium"],
+    );
+    assert_rejected(&coated("[{ ior = 1.38 }]"), &["thickness_nm"]);
+    assert_rejected(&coated("[{ ior = 1.38, thickness_nm = 100, colour = 1 }]"), &["colour"]);
+    let many = vec!["{ ior = 1.38, thickness_nm = 100 }"; 65].join(", ");
+    assert_rejected(&coated(&format!("[{many}]")), &[&line, "materials.glass.coating", "at most 64"]);
+    // 64 layers of the largest thickness load and render.
+    let most = vec!["{ ior = 1.38, thickness_nm = 1e5 }"; 64].join(", ");
+    let (code, stderr, produced) = render_text(&coated(&format!("[{most}]")), &[]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(produced);
+}

@@ -76,7 +76,9 @@ use glam::Vec3;
 
 use super::emission::{Cone, Emission};
 use super::guide::EmissionGuide;
-use super::{element, fresnel, refraction, rotation, Beam, Fault, MonochromaticIndices, TraceStats};
+use super::{
+    coated_matrices, element, fresnel, refraction, rotation, Beam, Fault, MonochromaticIndices, TraceStats,
+};
 use crate::film::{FilmLayout, Splats};
 use crate::geometry::{spawn_origin, Hit, Ray};
 use crate::material::{Dielectric, Diffuse, Material};
@@ -437,20 +439,36 @@ impl<'a> LightTracer<'a> {
         let s = if B::POLARIZED { s_axis(normal, dir, photon.frame_x) } else { photon.frame_x };
         let incident = flux.rotated(rotation(self.fault, dir, photon.frame_x, s));
         let branches = Branches { hit, photon, reference, frame_x: s };
+        // A coating replaces both branches' matrices, lane by lane; the directions stay the
+        // bare interface's, and refraction still carries flux (no 1/η²).
+        let coated = dielectric.is_coated().then(|| {
+            coated_matrices::<B>(self.fault, dielectric, cos_theta_i, wavelengths, live, |lane| {
+                self.indices.ior(material, dielectric, wavelengths.lambda_nm(lane))
+            })
+        });
+        let with_coating = |transmission: Mueller, f: &DielectricFresnel| match &coated {
+            Some((_, flux)) if self.fault == Some(Fault::LightPathRadianceScaling) => {
+                flux.scaled(SampledSpectrum::splat(1.0 / (f.eta_it * f.eta_it)))
+            }
+            Some((_, flux)) => *flux,
+            None => transmission,
+        };
 
         if !dielectric.ior.is_dispersive() || live_count == 1 {
             // One index for every live lane: one Fresnel evaluation and one refracted direction
             // (the common case, kept free of per-lane arrays).
             let first_live = live.trailing_zeros() as usize;
             let f = fresnel_at(first_live);
-            let reflection = if B::POLARIZED {
+            let reflection = if let Some((coated_reflection, _)) = coated {
+                coated_reflection
+            } else if B::POLARIZED {
                 Mueller::splat(element(self.fault, JonesDiagonal::dielectric_reflection(cos_theta_i, &f)))
             } else {
                 Mueller::attenuation(SampledSpectrum::splat(f.reflectance))
             };
             let refracted = self
                 .transmission::<B>(dir, normal, &f)
-                .map(|(dir_t, transmission)| (dir_t, incident.through(&transmission)));
+                .map(|(dir_t, transmission)| (dir_t, incident.through(&with_coating(transmission, &f))));
             self.choose_branch::<B>(
                 &branches,
                 incident.through(&reflection),
@@ -462,7 +480,9 @@ impl<'a> LightTracer<'a> {
         }
 
         let fresnels: [_; N_LAMBDA] = std::array::from_fn(fresnel_at);
-        let reflection = if B::POLARIZED {
+        let reflection = if let Some((coated_reflection, _)) = coated {
+            coated_reflection
+        } else if B::POLARIZED {
             Mueller::from_lanes(
                 &fresnels.map(|f| element(self.fault, JonesDiagonal::dielectric_reflection(cos_theta_i, &f))),
             )
@@ -472,6 +492,7 @@ impl<'a> LightTracer<'a> {
         let mut refracted: [Option<(Vec3, B)>; N_LAMBDA] = [None; N_LAMBDA];
         for lane in (0..N_LAMBDA).filter(|&i| live & (1 << i) != 0) {
             if let Some((dir_t, transmission)) = self.transmission::<B>(dir, normal, &fresnels[lane]) {
+                let transmission = with_coating(transmission, &fresnels[lane]);
                 refracted[lane] = Some((dir_t, incident.only_lane(lane).through(&transmission)));
             }
         }

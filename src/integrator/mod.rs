@@ -19,6 +19,7 @@ use crate::material::{Dielectric, Material};
 use crate::optics::{fresnel_dielectric, refract, DielectricFresnel};
 use crate::polarization::mueller::JonesDiagonal;
 use crate::polarization::{Mueller, Rotation};
+use crate::spectrum::{SampledSpectrum, SampledWavelengths, N_LAMBDA};
 
 /// Counters an integrator accumulates while tracing.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -136,6 +137,43 @@ pub(crate) fn element(fault: Option<Fault>, element: JonesDiagonal) -> JonesDiag
     }
 }
 
+/// A coated dielectric's reflection and transmitted-flux matrices at every lane, in the s/p
+/// frame of an incidence at `cos_theta_i` (signed as Fresnel's): polarised when `B` carries
+/// Stokes vectors, the s/p averages (R_s + R_p)/2 and (T_s + T_p)/2 when not. Lanes outside
+/// `live` (bit i: lane i) are left zero. The glass's index at lane i is `glass_ior(i)`; the
+/// stack replaces the bare Fresnel amplitudes (`material::dielectric`). The faults that change
+/// an index or flip a phase apply to the stack too; Schlick's approximation has no stack form.
+/// The transmission excludes the camera side's 1/η², as [`refraction`] does.
+pub(crate) fn coated_matrices<B: Beam>(
+    fault: Option<Fault>,
+    dielectric: &Dielectric,
+    cos_theta_i: f32,
+    wavelengths: &SampledWavelengths,
+    live: u32,
+    glass_ior: impl Fn(usize) -> f32,
+) -> (Mueller, Mueller) {
+    let zero = JonesDiagonal { a: 0.0, b: 0.0, w_re: 0.0, w_im: 0.0 };
+    let mut reflection = [zero; N_LAMBDA];
+    let mut transmission = [zero; N_LAMBDA];
+    for lane in (0..N_LAMBDA).filter(|&i| live & (1 << i) != 0) {
+        let n_glass = match fault {
+            Some(Fault::IorScale(scale)) => glass_ior(lane) * scale,
+            _ => glass_ior(lane),
+        };
+        let interface = dielectric.coated_interface(cos_theta_i, n_glass, wavelengths.lambda_nm(lane));
+        reflection[lane] = element(fault, interface.reflection);
+        transmission[lane] = element(fault, interface.transmission);
+    }
+    if B::POLARIZED {
+        (Mueller::from_lanes(&reflection), Mueller::from_lanes(&transmission))
+    } else {
+        let average = |elements: [JonesDiagonal; N_LAMBDA]| {
+            Mueller::attenuation(SampledSpectrum { values: elements.map(|e| e.a) })
+        };
+        (average(reflection), average(transmission))
+    }
+}
+
 /// A refraction with Fresnel terms `f` of light travelling along `dir` onto a surface with
 /// unit normal `normal`: the refracted direction and the matrix of the flux it carries (the
 /// transmittance: polarised when `B` carries Stokes vectors, averaged over s and p when not),
@@ -164,7 +202,11 @@ mod tests {
     /// n_d = 1.51680, n_F = 1.52238 (Schott data sheet).
     #[test]
     fn monochromatic_indices_hold_each_glass_at_the_render_wavelength() {
-        let bk7 = Dielectric { ior: glass_ior("N-BK7").expect("N-BK7 is catalogued"), absorption: None };
+        let bk7 = Dielectric {
+            ior: glass_ior("N-BK7").expect("N-BK7 is catalogued"),
+            absorption: None,
+            coating: Vec::new(),
+        };
         let materials = [Material::Black, Material::Dielectric(bk7.clone())];
         let at_d = MonochromaticIndices::new(&materials, Some(587.56));
         // The stored index answers whatever lane wavelength is asked: a monochromatic render

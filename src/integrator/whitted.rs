@@ -38,7 +38,7 @@
 
 use glam::Vec3;
 
-use super::{refraction, Beam, Fault, MonochromaticIndices, TraceStats};
+use super::{coated_matrices, refraction, Beam, Fault, MonochromaticIndices, TraceStats};
 use crate::geometry::{spawn_origin, Hit, Ray};
 use crate::light::Light;
 use crate::material::{Dielectric, Diffuse, Material, Polarizer, Retarder};
@@ -321,13 +321,27 @@ impl<'a> Whitted<'a> {
         };
         let reflection_of =
             |f: &DielectricFresnel| self.element(JonesDiagonal::dielectric_reflection(cos_theta_i, f));
+        // A coating replaces both branches' matrices, lane by lane (its phases depend on λ even
+        // where the glass's index does not); the directions stay the bare interface's.
+        let coated = dielectric.is_coated().then(|| {
+            let live_bits = (0..N_LAMBDA).filter(|&i| live[i]).fold(0_u32, |bits, i| bits | 1 << i);
+            coated_matrices::<B>(self.fault, dielectric, cos_theta_i, wavelengths, live_bits, |lane| {
+                self.indices.ior(material, dielectric, wavelengths.lambda_nm(lane))
+            })
+        });
+        let camera_side = |transmission: Mueller, f: &DielectricFresnel| match &coated {
+            Some((_, flux)) => flux.scaled(SampledSpectrum::splat(1.0 / (f.eta_it * f.eta_it))),
+            None => transmission,
+        };
 
         // A non-dispersive glass (or a branch that already carries one lane) refracts every lane
         // the same way: one Fresnel evaluation, one refracted branch.
         if !dielectric.ior.is_dispersive() || live_count == 1 {
             let first_live = live.iter().position(|&l| l).unwrap_or(0);
             let f = fresnel_at(first_live);
-            let reflection = if B::POLARIZED {
+            let reflection = if let Some((coated_reflection, _)) = coated {
+                coated_reflection
+            } else if B::POLARIZED {
                 Mueller::splat(reflection_of(&f))
             } else {
                 Mueller::attenuation(SampledSpectrum::splat(f.reflectance))
@@ -336,6 +350,7 @@ impl<'a> Whitted<'a> {
                 .branch::<B>(hit, reflected_dir, s, reflection.a, throughput, wavelengths, depth, rng, stats)
                 .through(&reflection);
             if let Some((refracted, transmission)) = self.transmission::<B>(dir, normal, &f) {
+                let transmission = camera_side(transmission, &f);
                 radiance += self
                     .branch::<B>(
                         hit,
@@ -354,7 +369,9 @@ impl<'a> Whitted<'a> {
         }
 
         let fresnel: [_; N_LAMBDA] = std::array::from_fn(fresnel_at);
-        let reflection = if B::POLARIZED {
+        let reflection = if let Some((coated_reflection, _)) = coated {
+            coated_reflection
+        } else if B::POLARIZED {
             Mueller::from_lanes(&fresnel.map(|f| reflection_of(&f)))
         } else {
             Mueller::attenuation(SampledSpectrum { values: fresnel.map(|f| f.reflectance) })
@@ -364,6 +381,7 @@ impl<'a> Whitted<'a> {
             .through(&reflection);
         for lane in (0..N_LAMBDA).filter(|&i| live[i]) {
             if let Some((refracted, transmission)) = self.transmission::<B>(dir, normal, &fresnel[lane]) {
+                let transmission = camera_side(transmission, &fresnel[lane]);
                 let lane_throughput = throughput.only_lane(lane);
                 let lane_light = self.branch::<B>(
                     hit,

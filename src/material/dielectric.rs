@@ -1,16 +1,27 @@
 //! [`Dielectric`]: a smooth interface between vacuum (outside, n = 1) and a dielectric of index
 //! n(λ) (inside), with Fresnel-weighted reflection and refraction (Hecht, *Optics*, §4.6) and
-//! optional Beer–Lambert absorption inside.
+//! optional Beer–Lambert absorption inside. An optional **coating**, a stack of coherent thin
+//! layers on the interface, replaces the bare Fresnel amplitudes by the stack's
+//! ([`crate::optics::thin_film`], the transfer-matrix method of Macleod, *Thin-Film Optical
+//! Filters*, §2.2–2.4) for light from either side; the directions stay those of the bare
+//! interface (the layers are thin and parallel, so n sin θ carries through them).
 //!
 //! ```toml
 //! [materials.flint]
 //! type = "dielectric"
 //! ior = { glass = "N-SF11" }          # or 1.5, { cauchy = [A, B, C] }, { sellmeier = { ... } }
 //! absorption = { rgb = [0.0, 0.05, 0.1] }   # optional, per scene unit
+//! coating = [{ ior = 1.38, thickness_nm = 99.64 }]   # optional, outside (air) side first
 //! ```
 
-use crate::optics::Ior;
+use num_complex::{Complex32, Complex64};
+
+use crate::optics::{thin_film_amplitudes, Ior, Layer};
+use crate::polarization::mueller::JonesDiagonal;
 use crate::spectrum::DenseSpectrum;
+
+/// Most layers a coating may have (checked at load; see `scene::limits`).
+pub const MAX_COATING_LAYERS: usize = 64;
 
 /// A smooth dielectric.
 #[derive(Debug, Clone)]
@@ -19,4 +30,149 @@ pub struct Dielectric {
     pub ior: Ior,
     /// Absorption coefficient inside (per scene unit), if any.
     pub absorption: Option<DenseSpectrum>,
+    /// The coating's layers from the outside (the side the normal points to) inwards; empty for
+    /// a bare interface. At most [`MAX_COATING_LAYERS`].
+    pub coating: Vec<CoatingLayer>,
+}
+
+/// Coatings of up to this many layers are evaluated in a short array.
+const SHORT_COATING: usize = 8;
+
+/// One coherent layer of a coating.
+#[derive(Debug, Clone)]
+pub struct CoatingLayer {
+    /// The layer's (real) index of refraction n(λ).
+    pub ior: Ior,
+    /// Its physical thickness in nm, in (0, 10⁵].
+    pub thickness_nm: f32,
+}
+
+/// A coated interface at one wavelength and incidence, as Jones elements in the s/p frame of
+/// the incidence (x = s).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CoatedInterface {
+    /// Reflection: diag(r_s, r_p) of the stack; a = (R_s + R_p)/2.
+    pub reflection: JonesDiagonal,
+    /// Transmission as flux: diag(√T_s·e^{i arg t_s}, √T_p·e^{i arg t_p}), so that
+    /// a = (T_s + T_p)/2, the power transmittance, as
+    /// [`JonesDiagonal::dielectric_transmission`] for a bare interface (whose t_s, t_p are
+    /// real and positive: there w = √(T_s·T_p) too). The radiance scaling 1/η_it² across the
+    /// interface is not included.
+    pub transmission: JonesDiagonal,
+}
+
+impl Dielectric {
+    /// True when the interface carries a coating.
+    #[inline]
+    pub fn is_coated(&self) -> bool {
+        !self.coating.is_empty()
+    }
+
+    /// The coated interface for light of vacuum wavelength `lambda_nm` arriving at
+    /// `cos_theta_i` (against the outward normal, negative from the inside, −0 counting as the
+    /// outside, as [`crate::optics::fresnel_dielectric`] takes it) when the glass has index
+    /// `n_glass` there. From the outside the layers are crossed in the order given (ambient
+    /// vacuum, substrate the glass); from the inside in reverse (ambient the glass, substrate
+    /// vacuum). Under total internal reflection the transmission is zero.
+    pub fn coated_interface(&self, cos_theta_i: f32, n_glass: f32, lambda_nm: f32) -> CoatedInterface {
+        // The layers at this wavelength, in the order the light crosses them, on the stack: a
+        // short array for the common short coatings, the longest accepted otherwise.
+        if self.coating.len() <= SHORT_COATING {
+            let mut layers = [Layer::dielectric(1.0, 0.0); SHORT_COATING];
+            self.coated_with(&mut layers, cos_theta_i, n_glass, lambda_nm)
+        } else {
+            let mut layers = [Layer::dielectric(1.0, 0.0); MAX_COATING_LAYERS];
+            self.coated_with(&mut layers, cos_theta_i, n_glass, lambda_nm)
+        }
+    }
+
+    /// [`Self::coated_interface`] with `layers` (at least as long as the coating) to fill.
+    fn coated_with(
+        &self,
+        layers: &mut [Layer],
+        cos_theta_i: f32,
+        n_glass: f32,
+        lambda_nm: f32,
+    ) -> CoatedInterface {
+        let count = self.coating.len().min(layers.len());
+        let from_inside = cos_theta_i < 0.0;
+        for (slot, layer) in self.coating[..count].iter().enumerate() {
+            let at = if from_inside { count - 1 - slot } else { slot };
+            layers[at] =
+                Layer::dielectric(f64::from(layer.ior.eval(lambda_nm)), f64::from(layer.thickness_nm));
+        }
+        let (n_ambient, n_substrate) =
+            if from_inside { (f64::from(n_glass), 1.0) } else { (1.0, f64::from(n_glass)) };
+        let stack = thin_film_amplitudes(
+            n_ambient,
+            &layers[..count],
+            n_substrate.into(),
+            f64::from(lambda_nm),
+            f64::from(cos_theta_i.abs().min(1.0)),
+        );
+        let narrow = |z: Complex64| Complex32::new(z.re as f32, z.im as f32);
+        // An amplitude of modulus √T with the phase of t (1 where t = 0: T is 0 there too).
+        let flux_amplitude = |t: Complex64, transmittance: f64| {
+            let norm = t.norm();
+            let phase = if norm > 0.0 { t / norm } else { Complex64::new(1.0, 0.0) };
+            narrow(phase * transmittance.max(0.0).sqrt())
+        };
+        CoatedInterface {
+            reflection: JonesDiagonal::new(narrow(stack.r_s), narrow(stack.r_p)),
+            transmission: JonesDiagonal::new(
+                flux_amplitude(stack.t_s, stack.transmittance_s),
+                flux_amplitude(stack.t_p, stack.transmittance_p),
+            ),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::optics::fresnel_dielectric;
+
+    fn coated(layers: &[(f32, f32)]) -> Dielectric {
+        Dielectric {
+            ior: Ior::Constant(1.5),
+            absorption: None,
+            coating: layers
+                .iter()
+                .map(|&(n, d)| CoatingLayer { ior: Ior::Constant(n), thickness_nm: d })
+                .collect(),
+        }
+    }
+
+    /// A layer of the outside's index (n = 1) is no layer at all: the interface is the bare
+    /// one, from both sides, total internal reflection included (Hecht §4.6, §4.7).
+    #[test]
+    fn a_vacuum_layer_is_the_bare_interface() {
+        let glass = coated(&[(1.0, 250.0)]);
+        for cos_theta_i in [1.0_f32, 0.8, 0.3, -1.0, -0.9, -0.5, -0.2] {
+            let bare = fresnel_dielectric(cos_theta_i, 1.5);
+            let interface = glass.coated_interface(cos_theta_i, 1.5, 550.0);
+            let expected_t = 0.5 * ((1.0 - bare.reflectance_s) + (1.0 - bare.reflectance_p));
+            assert!((interface.reflection.a - bare.reflectance).abs() < 1e-5, "cos {cos_theta_i}");
+            assert!((interface.transmission.a - expected_t).abs() < 1e-5, "cos {cos_theta_i}");
+            if bare.reflectance < 1.0 {
+                let w = (1.0 - bare.reflectance_s) * (1.0 - bare.reflectance_p);
+                assert!((interface.transmission.w_re - w.sqrt()).abs() < 1e-5, "cos {cos_theta_i}");
+            }
+        }
+    }
+
+    /// A quarter-wave MgF₂ layer (n = 1.38, d = 550/(4·1.38) nm) on n = 1.5 at normal
+    /// incidence and 550 nm: R = ((n_g − n²)/(n_g + n²))² = 0.01306... (Hecht §9.7.1), against
+    /// 4 % bare; R + T = 1 (no absorption), and the same R from the inside (a lossless stack
+    /// reflects the same power from both sides).
+    #[test]
+    fn quarter_wave_layer_reflects_the_closed_form() {
+        let glass = coated(&[(1.38, 550.0 / (4.0 * 1.38))]);
+        let expected = ((1.5 - 1.38_f32 * 1.38) / (1.5 + 1.38 * 1.38)).powi(2);
+        for cos_theta_i in [1.0_f32, -1.0] {
+            let interface = glass.coated_interface(cos_theta_i, 1.5, 550.0);
+            assert!((interface.reflection.a - expected).abs() < 1e-6, "{}", interface.reflection.a);
+            assert!((interface.reflection.a + interface.transmission.a - 1.0).abs() < 1e-6);
+        }
+    }
 }

@@ -10,7 +10,7 @@ pub mod retarder;
 
 use glam::Vec3;
 
-pub use dielectric::Dielectric;
+pub use dielectric::{CoatedInterface, CoatingLayer, Dielectric, MAX_COATING_LAYERS};
 pub use diffuse::Diffuse;
 pub use mirror::{Conductor, Mirror};
 pub use polarizer::Polarizer;

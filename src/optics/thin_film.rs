@@ -48,8 +48,9 @@
 //! Limits: cos β and sin β grow like e^{|Im β|}; an absorbing layer overflows f64 only past
 //! |Im β| ≈ 700 (some 20 µm of gold, k = 3.43 at 650 nm), long after it is opaque.
 //!
-//! # In a scene (not implemented yet)
-//! The renderer does not use coatings yet (issue 41); the scene syntax planned for them is
+//! # In a scene
+//! A dielectric's `coating` (`crate::material::dielectric`; issue 41) is a stack whose ambient
+//! is the vacuum outside and whose substrate is the glass (reversed from inside):
 //! ```toml
 //! [materials.coated_lens]
 //! type = "dielectric"

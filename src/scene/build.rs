@@ -10,7 +10,8 @@ use glam::{Affine3A, EulerRot, Quat, Vec3};
 use toml::Spanned;
 
 use super::desc::{
-    CameraDesc, EmitSide, IorDesc, LightDesc, MaterialDesc, RenderDesc, SceneDesc, ShapeDesc, SpectrumDesc,
+    CameraDesc, CoatingLayerDesc, EmitSide, IorDesc, LightDesc, MaterialDesc, RenderDesc, SceneDesc,
+    ShapeDesc, SpectrumDesc,
 };
 use super::error::{line_column, one_line, shorten};
 use super::typed::Typed;
@@ -18,11 +19,13 @@ use super::{RenderSettings, Scene, SceneError, Surface};
 use crate::camera::Camera;
 use crate::geometry::{Geometry, Mesh, Plane, Quad, Shape, Sphere};
 use crate::light::{BeamLight, Light, PointLight, QuadLight, SpotLight};
-use crate::material::{Conductor, Dielectric, Diffuse, Material, Mirror, Polarizer, Retarder};
+use crate::material::{
+    CoatingLayer, Conductor, Dielectric, Diffuse, Material, Mirror, Polarizer, Retarder, MAX_COATING_LAYERS,
+};
 use crate::optics::{catalogue, metals, Ior};
 use crate::spectrum::{DenseSpectrum, Spectrum, LAMBDA_MAX_NM, LAMBDA_MIN_NM, N_LAMBDA};
 
-use super::limits::{MAX_COORDINATE, MAX_EMISSION, MAX_IOR, MIN_IOR, MIN_LENGTH};
+use super::limits::{MAX_COATING_THICKNESS_NM, MAX_COORDINATE, MAX_EMISSION, MAX_IOR, MIN_IOR, MIN_LENGTH};
 pub use super::limits::{MAX_DEPTH, MAX_RESOLUTION, MAX_SPP};
 /// Largest accepted number of light paths per pass.
 pub const MAX_LIGHT_PATHS: u64 = 1 << 40;
@@ -306,7 +309,7 @@ impl Builder<'_> {
                 };
                 Material::Mirror(Mirror { reflectance, conductor })
             }
-            MaterialDesc::Dielectric { ior, absorption } => {
+            MaterialDesc::Dielectric { ior, absorption, coating } => {
                 let ior = self.ior(ior, span.clone(), &field("ior"))?;
                 let absorption = match absorption {
                     Some(a) => {
@@ -314,7 +317,8 @@ impl Builder<'_> {
                     }
                     None => None,
                 };
-                Material::Dielectric(Dielectric { ior, absorption })
+                let coating = self.coating(coating.as_deref().unwrap_or(&[]), span, &field("coating"))?;
+                Material::Dielectric(Dielectric { ior, absorption, coating })
             }
             MaterialDesc::Polarizer { axis, transmittance } => {
                 let axis = self.direction(*axis, span.clone(), &field("axis"))?.normalize();
@@ -336,6 +340,45 @@ impl Builder<'_> {
                 Material::Retarder(Retarder { fast_axis, retardance_rad: retardance_deg.to_radians() })
             }
         })
+    }
+
+    /// A coating's layers (outside first): at most [`MAX_COATING_LAYERS`], each with an index
+    /// like a material's and a thickness in (0, [`MAX_COATING_THICKNESS_NM`]] nm.
+    fn coating(
+        &self,
+        layers: &[CoatingLayerDesc],
+        span: std::ops::Range<usize>,
+        field: &str,
+    ) -> Result<Vec<CoatingLayer>, SceneError> {
+        if layers.len() > MAX_COATING_LAYERS {
+            return Err(self.error(
+                span,
+                field,
+                format!("{} layers; a coating has at most {MAX_COATING_LAYERS}", layers.len()),
+            ));
+        }
+        layers
+            .iter()
+            .enumerate()
+            .map(|(i, layer)| {
+                let ior = self.ior(&layer.ior, span.clone(), &format!("{field}[{i}].ior"))?;
+                let thickness_nm = layer.thickness_nm;
+                if !(thickness_nm.is_finite()
+                    && thickness_nm > 0.0
+                    && thickness_nm <= MAX_COATING_THICKNESS_NM)
+                {
+                    return Err(self.error(
+                        span.clone(),
+                        format!("{field}[{i}].thickness_nm"),
+                        format!(
+                            "must be > 0 and at most {MAX_COATING_THICKNESS_NM} nm (100 µm), got {}",
+                            number(thickness_nm)
+                        ),
+                    ));
+                }
+                Ok(CoatingLayer { ior, thickness_nm })
+            })
+            .collect()
     }
 
     fn ior(&self, desc: &IorDesc, span: std::ops::Range<usize>, field: &str) -> Result<Ior, SceneError> {

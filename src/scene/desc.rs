@@ -139,6 +139,9 @@ pub enum MaterialDesc {
         /// Absorption coefficient inside, per scene unit (Beer–Lambert); none when absent.
         #[serde(default)]
         absorption: Option<SpectrumDesc>,
+        /// Thin coherent layers on the interface, from the outside inwards; bare when absent.
+        #[serde(default)]
+        coating: Option<Vec<CoatingLayerDesc>>,
     },
     /// Ideal linear polariser sheet (flat shapes only).
     Polarizer {
@@ -343,6 +346,16 @@ pub struct IorFields {
     pub glass: Option<String>,
     /// (wavelength nm, n) pairs.
     pub table: Option<Vec<[f32; 2]>>,
+}
+
+/// One layer of a dielectric's coating.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CoatingLayerDesc {
+    /// The layer's index of refraction (any form a material's `ior` takes).
+    pub ior: IorDesc,
+    /// Physical thickness in nm.
+    pub thickness_nm: f32,
 }
 
 /// Sellmeier coefficients.

@@ -22,6 +22,15 @@
 //!   inside it, and (1 − R)/n² ≈ 4/n entering a medium of n ≪ 1 at normal incidence; both stay
 //!   below 10⁴ per interface.
 //!
+//! - **Coatings: at most 64 layers, each 0 < d ≤ 100 µm thick.** The transfer matrices grow
+//!   like e^{|Im β|} only in absorbing or evanescent layers, and coating layers are real
+//!   indices; the bound is physical rather than numerical: layers are treated as coherent, and
+//!   beyond some 100 µm (the coherence length of light a few nm wide in the visible is tens of
+//!   µm) interference fringes become finer than any sampled wavelength grid resolves, so a
+//!   thicker "layer" is a slab that belongs in the geometry. 64 layers cover real dielectric
+//!   mirrors and filters (tens of layers) while bounding the per-hit cost, and the layer array
+//!   is fixed-size on the stack ([`crate::material::MAX_COATING_LAYERS`]).
+//!
 //! - **Not checked: precision far from the origin.** Positions are f32 in world coordinates,
 //!   spaced M·2⁻²³ at distance M (1 unit at 10⁷), and spawned rays are offset by a few such
 //!   spacings ([`crate::geometry::offset`]), so a shape small against that spacing renders
@@ -66,3 +75,5 @@ pub const MIN_PRUNE_BELOW_DEEP: f32 = 1e-4;
 /// hit may keep both branches, so a camera sample can cost up to 2^max_depth rays (about 10⁶
 /// here; the reproducer took 1 s at depth 16, 40 s at 24 and hours beyond).
 pub const MAX_DEPTH_UNPRUNED: u32 = 20;
+/// Largest coating layer thickness, in nm (100 µm; see the module documentation).
+pub const MAX_COATING_THICKNESS_NM: f32 = 1e5;
