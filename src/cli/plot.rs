@@ -204,19 +204,46 @@ pub fn encode_chart_grid(
     columns: usize,
     panel_size: (u32, u32),
 ) -> Result<(), OutputError> {
-    let codec = |message: String| OutputError::Codec { path: path.display().to_string(), message };
-    register_font().map_err(|e| codec(e.to_string()))?;
     let columns = columns.clamp(1, panels.len().max(1));
     let rows = panels.len().div_ceil(columns).max(1);
     let size = (panel_size.0 * columns as u32, panel_size.1 * rows as u32);
+    encode_figure(sink, path, format, size, Figure::Grid { panels, columns })
+}
+
+/// What a figure file holds: a grid of chart panels, or a colour strip over its panel.
+enum Figure<'a> {
+    /// Panels row by row, `columns` to a row.
+    Grid { panels: &'a [Panel], columns: usize },
+    /// A [`ColorStrip`].
+    Strip(&'a ColorStrip),
+}
+
+impl Figure<'_> {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
+        match self {
+            Figure::Grid { panels, columns } => draw(root, panels, *columns),
+            Figure::Strip(strip) => draw_strip(root, strip),
+        }
+    }
+}
+
+/// Draws `figure` at `size` pixels as `format` into `sink` (errors name `path`): in memory
+/// first, then written.
+fn encode_figure(
+    sink: &mut Sink,
+    path: &Path,
+    format: PlotFormat,
+    size: (u32, u32),
+    figure: Figure,
+) -> Result<(), OutputError> {
+    let codec = |message: String| OutputError::Codec { path: path.display().to_string(), message };
+    register_font().map_err(|e| codec(e.to_string()))?;
     match format {
         PlotFormat::Svg => {
             let mut svg = String::new();
             {
                 let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
-                draw(&root, panels, columns)
-                    .and_then(|()| root.present().map_err(|e| e.to_string()))
-                    .map_err(codec)?;
+                figure.draw(&root).and_then(|()| root.present().map_err(|e| e.to_string())).map_err(codec)?;
             }
             text_into(sink, path, &svg)
         }
@@ -224,9 +251,7 @@ pub fn encode_chart_grid(
             let mut pixels = vec![0u8; size.0 as usize * size.1 as usize * 3];
             {
                 let root = BitMapBackend::with_buffer(&mut pixels, size).into_drawing_area();
-                draw(&root, panels, columns)
-                    .and_then(|()| root.present().map_err(|e| e.to_string()))
-                    .map_err(codec)?;
+                figure.draw(&root).and_then(|()| root.present().map_err(|e| e.to_string())).map_err(codec)?;
             }
             encode_png_compact(sink, path, &pixels, size)
         }
@@ -282,31 +307,8 @@ pub fn encode_color_strip(
     width: u32,
     panel_height: u32,
 ) -> Result<(), OutputError> {
-    let codec = |message: String| OutputError::Codec { path: path.display().to_string(), message };
-    register_font().map_err(|e| codec(e.to_string()))?;
     let size = (width, STRIP_HEIGHT + panel_height);
-    match format {
-        PlotFormat::Svg => {
-            let mut svg = String::new();
-            {
-                let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
-                draw_strip(&root, strip)
-                    .and_then(|()| root.present().map_err(|e| e.to_string()))
-                    .map_err(codec)?;
-            }
-            text_into(sink, path, &svg)
-        }
-        PlotFormat::Png => {
-            let mut pixels = vec![0u8; size.0 as usize * size.1 as usize * 3];
-            {
-                let root = BitMapBackend::with_buffer(&mut pixels, size).into_drawing_area();
-                draw_strip(&root, strip)
-                    .and_then(|()| root.present().map_err(|e| e.to_string()))
-                    .map_err(codec)?;
-            }
-            encode_png_compact(sink, path, &pixels, size)
-        }
-    }
+    encode_figure(sink, path, format, size, Figure::Strip(strip))
 }
 
 fn draw_strip<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, strip: &ColorStrip) -> Result<(), String> {
