@@ -4,12 +4,24 @@
 //! Each iteration evaluates 1024 inputs (cos θi over [−1, 1], wavelengths over 360–830 nm), so
 //! criterion's "elements/s" is calls per second and its time divided by 1024 is the time per
 //! call. `cargo bench --bench optics`.
+//!
+//! The `interface` group is what a render does at a dielectric interface per wavelength lane
+//! (issue 41's speed target: a coated interface at most 2× a bare one): `bare` is the bare
+//! path's Fresnel terms and the reflection and transmission Jones elements built from them;
+//! `coated_1` and `coated_4` are [`Dielectric::coated_interface`] with a quarter-wave MgF₂
+//! layer and a four-layer stack, which returns the same two elements. Each call takes its own
+//! cos θi (both sides, [−1, 1]) and wavelength (360–830 nm); the glass's n(λ) is given, as
+//! the integrators evaluate it once per lane for both paths. (The integrators' per-lane loop,
+//! `integrator::coated_matrices`, is crate-private; `coated_interface` is its whole cost but
+//! the Mueller assembly.)
 
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use prisma::material::{CoatingLayer, Dielectric};
 use prisma::optics::catalogue::glass_ior;
 use prisma::optics::{fresnel_dielectric, fresnel_dielectric_amplitudes, Ior};
+use prisma::polarization::mueller::JonesDiagonal;
 use prisma::spectrum::SampledWavelengths;
 
 const CALLS: usize = 1024;
@@ -43,6 +55,51 @@ fn optics_benchmarks(c: &mut Criterion) {
                 .sum::<f32>()
         })
     });
+    group.finish();
+
+    let coated = |layers: &[(f32, f32)]| Dielectric {
+        ior: Ior::Constant(1.5),
+        absorption: None,
+        coating: layers
+            .iter()
+            .map(|&(n, thickness_nm)| CoatingLayer { ior: Ior::Constant(n), thickness_nm })
+            .collect(),
+    };
+    // Quarter-wave MgF₂ at 550 nm; a four-layer stack (quarter, half, quarter, quarter waves of
+    // MgF₂, ZrO₂ 2.05, Al₂O₃ 1.62, MgF₂ outermost first at 550 nm).
+    let coated_1 = coated(&[(1.38, 99.64)]);
+    let coated_4 = coated(&[(1.38, 99.64), (2.05, 134.15), (1.62, 84.88), (1.38, 99.64)]);
+    let n_glass = 1.5168_f32;
+    let mut group = c.benchmark_group("interface");
+    group.throughput(Throughput::Elements(CALLS as u64));
+    group.bench_function("bare", |b| {
+        b.iter(|| {
+            cosines
+                .iter()
+                .zip(&wavelengths_nm)
+                .map(|(&cos, &_nm)| {
+                    let f = fresnel_dielectric(black_box(cos), black_box(n_glass));
+                    let r = JonesDiagonal::dielectric_reflection(cos, &f);
+                    let t = JonesDiagonal::dielectric_transmission(&f);
+                    r.a + r.w_im + t.a + t.w_re
+                })
+                .sum::<f32>()
+        })
+    });
+    for (name, dielectric) in [("coated_1", &coated_1), ("coated_4", &coated_4)] {
+        group.bench_function(name, |b| {
+            b.iter(|| {
+                cosines
+                    .iter()
+                    .zip(&wavelengths_nm)
+                    .map(|(&cos, &nm)| {
+                        let i = dielectric.coated_interface(black_box(cos), black_box(n_glass), nm);
+                        i.reflection.a + i.reflection.w_im + i.transmission.a + i.transmission.w_re
+                    })
+                    .sum::<f32>()
+            })
+        });
+    }
     group.finish();
 
     let models = [
