@@ -168,8 +168,10 @@ pub fn thin_film_amplitudes(
         let wavenumber_thickness = std::f64::consts::TAU * layer.thickness_nm / lambda_nm;
         let beta = medium.n_cos * wavenumber_thickness;
         let index_sqr = medium.index * medium.index;
-        s = s.then(beta, medium.admittance_s(), Complex64::new(wavenumber_thickness, 0.0));
-        p = p.then(beta, medium.admittance_p(), index_sqr * wavenumber_thickness);
+        // β is the same for s and p: its (complex, f64) cos, sin and sinc once for both.
+        let phase = Phase::new(beta);
+        s = s.then(&phase, medium.admittance_s(), Complex64::new(wavenumber_thickness, 0.0));
+        p = p.then(&phase, medium.admittance_p(), index_sqr * wavenumber_thickness);
     }
     let (r_s, t_s, transmittance_s) = s.solve(ambient.admittance_s(), substrate.admittance_s());
     let (r_p, t_p_h, transmittance_p) = p.solve(ambient.admittance_p(), substrate.admittance_p());
@@ -221,6 +223,20 @@ impl Medium {
     }
 }
 
+/// A layer's phase thickness β through its cos β, sin β and sinc β (shared by s and p).
+struct Phase {
+    cos: Complex64,
+    sin: Complex64,
+    sinc: Complex64,
+}
+
+impl Phase {
+    fn new(beta: Complex64) -> Self {
+        let sin = beta.sin();
+        Self { cos: beta.cos(), sin, sinc: sinc(beta, sin) }
+    }
+}
+
 /// The product of the layers' characteristic matrices, [[m11, m12], [m21, m22]].
 #[derive(Clone, Copy)]
 struct Characteristic {
@@ -239,12 +255,12 @@ impl Characteristic {
     /// This product times the next layer's matrix [[cos β, i sin β / y], [i y sin β, cos β]],
     /// given β, y and β / y (finite where y = 0: a layer at its critical angle, or of the
     /// ambient's index at grazing incidence, where sin β / y → β / y).
-    fn then(self, beta: Complex64, admittance: Complex64, beta_over_admittance: Complex64) -> Self {
+    fn then(self, phase: &Phase, admittance: Complex64, beta_over_admittance: Complex64) -> Self {
         let i = Complex64::i();
         // sin β / y = sinc β · β / y; i sin β / y and i y sin β are even in y (and so in the
         // choice of root), as is cos β.
-        let (cos, sinc) = (beta.cos(), sinc(beta));
-        let (l11, l12, l21, l22) = (cos, i * sinc * beta_over_admittance, i * beta.sin() * admittance, cos);
+        let (cos, sin, sinc) = (phase.cos, phase.sin, phase.sinc);
+        let (l11, l12, l21, l22) = (cos, i * sinc * beta_over_admittance, i * sin * admittance, cos);
         Self {
             m11: self.m11 * l11 + self.m12 * l21,
             m12: self.m11 * l12 + self.m12 * l22,
@@ -275,14 +291,14 @@ impl Characteristic {
     }
 }
 
-/// sin z / z, 1 at z = 0.
-fn sinc(z: Complex64) -> Complex64 {
+/// sin z / z, 1 at z = 0, given `sin` = sin z.
+fn sinc(z: Complex64, sin: Complex64) -> Complex64 {
     // Below |z| = 1e-3 the series' next term z⁶/5040 is < 2e-22, far under f64 rounding of 1.
     if z.norm_sqr() < 1e-6 {
         let z_sqr = z * z;
         1.0 - z_sqr / 6.0 + z_sqr * z_sqr / 120.0
     } else {
-        z.sin() / z
+        sin / z
     }
 }
 
