@@ -232,8 +232,16 @@ struct Phase {
 
 impl Phase {
     fn new(beta: Complex64) -> Self {
-        let sin = beta.sin();
-        Self { cos: beta.cos(), sin, sinc: sinc(beta, sin) }
+        // num-complex's sin and cos (sin(a + ib) = sin a cosh b + i cos a sinh b, cos(a + ib) =
+        // cos a cosh b − i sin a sinh b), with each real function evaluated once, and cosh, sinh
+        // of a zero b (every lossless layer short of its critical angle) taken as the 1 and ±0
+        // they are exactly: the same bits.
+        let (sin_re, cos_re) = (beta.re.sin(), beta.re.cos());
+        let (cosh_im, sinh_im) =
+            if beta.im == 0.0 { (1.0, beta.im) } else { (beta.im.cosh(), beta.im.sinh()) };
+        let sin = Complex64::new(sin_re * cosh_im, cos_re * sinh_im);
+        let cos = Complex64::new(cos_re * cosh_im, -sin_re * sinh_im);
+        Self { cos, sin, sinc: sinc(beta, sin) }
     }
 }
 
