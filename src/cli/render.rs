@@ -18,6 +18,7 @@ use prisma::output::png::encode_png;
 use prisma::part::{read_part, PartHeader, PixelWindow, SampleSet};
 use prisma::render::{render_sums, Job, RenderError};
 use prisma::scene::build::{MAX_DEPTH, MAX_LIGHT_PATHS, MAX_RESOLUTION, MAX_SPP};
+use prisma::scene::{IntegratorKind, RenderSettings};
 use prisma::spectrum::{LAMBDA_MAX_NM, LAMBDA_MIN_NM};
 
 /// Arguments of `prisma render`. Flags override the scene file's settings.
@@ -40,7 +41,11 @@ pub struct RenderArgs {
     /// Image height in pixels (alone, the width follows the scene's aspect ratio).
     #[arg(long, value_name = "H", value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_RESOLUTION)))]
     height: Option<u32>,
-    /// Maximum number of specular bounces.
+    /// The camera's estimator: whitted (Whitted's recursion) or path (full transport)
+    /// [default: the scene's `integrator`, else whitted].
+    #[arg(long, value_name = "NAME")]
+    integrator: Option<String>,
+    /// Maximum number of specular bounces (whitted) or of bounces of any kind (path).
     #[arg(long, value_name = "D", value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_DEPTH)))]
     max_depth: Option<u32>,
     /// Render threads [default: one per core]. The image does not depend on it.
@@ -126,6 +131,7 @@ impl RenderArgs {
             spp: None,
             width: None,
             height: None,
+            integrator: None,
             max_depth: None,
             threads: None,
             seed: None,
@@ -184,6 +190,27 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         .with_resolution(width, height)
         .map_err(|e| CliError::Input(anyhow!("{}: {e}", args.scene.display())))?;
     let mut settings = scene.settings.clone();
+    if let Some(name) = &args.integrator {
+        let integrator =
+            IntegratorKind::from_name(name).map_err(|e| CliError::Input(anyhow!("--integrator: {e}")))?;
+        if integrator != settings.integrator {
+            // A depth left at one integrator's default takes the other's (they count different
+            // bounces); Whitted's pruning threshold means nothing to the path tracer.
+            if settings.max_depth == settings.integrator.default_max_depth() {
+                settings.max_depth = integrator.default_max_depth();
+            }
+            if integrator == IntegratorKind::Path
+                && settings.prune_below != RenderSettings::default().prune_below
+            {
+                eprintln!(
+                    "warning: {}: prune_below = {} belongs to the \"whitted\" integrator; \"path\" ignores it",
+                    args.scene.display(),
+                    settings.prune_below
+                );
+            }
+            settings.integrator = integrator;
+        }
+    }
     settings.spp = args.spp.unwrap_or(settings.spp);
     settings.seed = args.seed.unwrap_or(settings.seed);
     settings.max_depth = args.max_depth.unwrap_or(settings.max_depth);
@@ -233,6 +260,10 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         Some(nm) => format!("{}_{nm}nm", scene.name),
         None => scene.name.clone(),
     };
+    if settings.integrator != scene.settings.integrator {
+        stem.push('_');
+        stem.push_str(settings.integrator.name());
+    }
     if settings.caustics != scene.settings.caustics {
         stem.push_str(if settings.caustics { "_with_caustics" } else { "_without_caustics" });
     }

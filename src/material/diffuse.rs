@@ -58,6 +58,42 @@ impl Diffuse {
             if cos_i > cos_o { (sin_o, sin_i / cos_i.max(1e-8)) } else { (sin_i, sin_o / cos_o.max(1e-8)) };
         a + b * cos_phi_diff.max(0.0) * sin_alpha * tan_beta
     }
+
+    /// A direction scattered from the side of the unit `normal` the light leaves on, drawn with
+    /// the cosine density cos θ/π (Malley's method: a point of the unit disk by Shirley and
+    /// Chiu's concentric map, lifted onto the hemisphere), from two uniform numbers in [0, 1).
+    /// Used for Lambert and for Oren–Nayar alike: their ratio f·cos θ/pdf is
+    /// ρ·[`Self::shape_factor`], bounded for both. Returns the direction and its density per
+    /// steradian ([`Self::pdf`]).
+    #[inline]
+    pub fn sample(normal: Vec3, u: (f32, f32)) -> (Vec3, f32) {
+        let (x, y) = concentric_disk(u);
+        let z = (1.0 - x * x - y * y).max(0.0).sqrt();
+        let (tangent, bitangent) = normal.any_orthonormal_pair();
+        let dir = (tangent * x + bitangent * y + normal * z).normalize();
+        (dir, Self::pdf(normal, dir))
+    }
+
+    /// The density of [`Self::sample`] per steradian at `dir`: cos θ/π on the side of `normal`,
+    /// 0 below it.
+    #[inline]
+    pub fn pdf(normal: Vec3, dir: Vec3) -> f32 {
+        normal.dot(dir).max(0.0) * std::f32::consts::FRAC_1_PI
+    }
+}
+
+/// Shirley and Chiu's concentric map of [0, 1)² onto the unit disk ("A low distortion map
+/// between disk and square", 1997): area-preserving, so uniform numbers give uniform points.
+#[inline]
+fn concentric_disk((u1, u2): (f32, f32)) -> (f32, f32) {
+    let (a, b) = (2.0 * u1 - 1.0, 2.0 * u2 - 1.0);
+    if a == 0.0 && b == 0.0 {
+        return (0.0, 0.0);
+    }
+    let quarter = std::f32::consts::FRAC_PI_4;
+    let (r, phi) =
+        if a.abs() > b.abs() { (a, quarter * (b / a)) } else { (b, 2.0 * quarter - quarter * (a / b)) };
+    (r * phi.cos(), r * phi.sin())
 }
 
 #[cfg(test)]
@@ -67,6 +103,36 @@ mod tests {
     fn dir(theta_deg: f32, phi_deg: f32) -> Vec3 {
         let (t, p) = (theta_deg.to_radians(), phi_deg.to_radians());
         Vec3::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos())
+    }
+
+    /// The sampled directions lie on the normal's side, with the density `pdf` reports, whose
+    /// integral over the hemisphere is 1 (midpoint rule in cos θ and φ).
+    #[test]
+    fn sampling_stays_above_the_surface_with_a_normalised_density() {
+        let normal = Vec3::new(0.3, -0.5, 0.8).normalize();
+        for i in 0..64 {
+            for j in 0..64 {
+                let u = ((i as f32 + 0.5) / 64.0, (j as f32 + 0.5) / 64.0);
+                let (dir, pdf) = Diffuse::sample(normal, u);
+                assert!((dir.length() - 1.0).abs() < 1e-5);
+                assert!(normal.dot(dir) >= 0.0);
+                assert!((pdf - normal.dot(dir) / std::f32::consts::PI).abs() < 1e-6);
+            }
+        }
+        let (n_theta, n_phi) = (400, 64);
+        let mut integral = 0.0f64;
+        for i in 0..n_theta {
+            let cos = (i as f64 + 0.5) / n_theta as f64;
+            let sin = (1.0 - cos * cos).sqrt();
+            for j in 0..n_phi {
+                let phi = (j as f64 + 0.5) / n_phi as f64 * std::f64::consts::TAU;
+                let dir = Vec3::new((sin * phi.cos()) as f32, (sin * phi.sin()) as f32, cos as f32);
+                integral += f64::from(Diffuse::pdf(Vec3::Z, dir));
+            }
+        }
+        integral *= std::f64::consts::TAU / (n_theta * n_phi) as f64;
+        assert!((integral - 1.0).abs() < 1e-4, "{integral}");
+        assert_eq!(Diffuse::pdf(Vec3::Z, -Vec3::Z), 0.0);
     }
 
     #[test]

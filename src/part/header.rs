@@ -9,7 +9,7 @@
 //! | `prisma.seed` | seed of the sample sequences |
 //! | `prisma.samples`, `prisma.spp` | sample indices held (`0..64,128..192`) and the render's total samples per pixel |
 //! | `prisma.crop` | the pixel window `X0,Y0,X1,Y1` (also the EXR data window) |
-//! | `prisma.settings` | the integrator settings as JSON: `max_depth`, `prune_below`, `wavelengths` (per sample), `area_light_samples`, `edge_samples` (camera samples per pass at edges, [`crate::edges`]; only when above 1), `polarized`, `caustics`, `light_paths` (per pass, 0 without caustics), `light_guide` (light paths started by a learned guide, [`crate::integrator::guide`]), `spectral_bands`, `monochromatic_nm` |
+//! | `prisma.settings` | the integrator settings as JSON: `max_depth`, `prune_below`, `wavelengths` (per sample), `area_light_samples`, `edge_samples` (camera samples per pass at edges, [`crate::edges`]; only when above 1), `polarized`, `caustics`, `light_paths` (per pass, 0 without caustics), `light_guide` (light paths started by a learned guide, [`crate::integrator::guide`]), `spectral_bands`, `monochromatic_nm`, `integrator` (only when not Whitted) |
 //! | `prisma.wallSeconds`, `prisma.threads`, `prisma.parts` | render time (summed over merged parts), threads (the most any part used), parts merged into this file |
 //! | `prisma.sumsFormat`, `prisma.sumsBlake3` | present when the file holds per-pixel sums: their format and a BLAKE3 digest of them (corruption check) |
 //! | `prisma.headerBlake3` | BLAKE3 of every other `prisma.*` attribute and the display and data windows ([`header_digest`]): with `prisma.sumsBlake3` among them, it ties the header to the sums |
@@ -99,6 +99,11 @@ pub fn settings_json(settings: &RenderSettings, light_paths_per_pass: u64, layou
     if settings.edge_samples > 1 {
         json["edge_samples"] = settings.edge_samples.into();
     }
+    // Written only for the path tracer, so that Whitted's parts still merge with those of
+    // earlier versions.
+    if settings.integrator != crate::scene::IntegratorKind::Whitted {
+        json["integrator"] = settings.integrator.name().into();
+    }
     json.to_string()
 }
 
@@ -146,6 +151,8 @@ struct SettingsRecord {
     monochromatic_nm: Option<f64>,
     #[serde(default)]
     edge_samples: Option<u32>,
+    #[serde(default)]
+    integrator: Option<String>,
 }
 
 #[derive(Deserialize)]
@@ -210,7 +217,12 @@ fn parse_settings(text: &str) -> Result<(RenderSettings, FilmLayout, u64), Strin
         bands,
         monochromatic_nm: record.monochromatic_nm.map(|nm| nm as f32),
     };
+    let integrator = match record.integrator.as_deref() {
+        None => crate::scene::IntegratorKind::Whitted,
+        Some(name) => crate::scene::IntegratorKind::from_name(name)?,
+    };
     let settings = RenderSettings {
+        integrator,
         max_depth: record.max_depth,
         wavelengths: record.wavelengths,
         area_light_samples: record.area_light_samples,

@@ -15,7 +15,7 @@ use super::desc::{
 };
 use super::error::{line_column, one_line, shorten};
 use super::typed::Typed;
-use super::{RenderSettings, Scene, SceneError, Surface};
+use super::{IntegratorKind, RenderSettings, Scene, SceneError, Surface};
 use crate::camera::Camera;
 use crate::geometry::{Geometry, Mesh, Plane, Quad, Shape, Sphere};
 use crate::light::{BeamLight, Light, PointLight, QuadLight, SpotLight};
@@ -194,9 +194,27 @@ impl Builder<'_> {
                 Err(self.error(span.clone(), field, format!("must be in {low}..={high}, got {value}")))
             }
         };
+        let integrator = match &desc.integrator {
+            Some(name) => IntegratorKind::from_name(name)
+                .map_err(|message| self.error(span.clone(), "render.integrator", message))?,
+            None => defaults.integrator,
+        };
+        if integrator == IntegratorKind::Path && desc.prune_below.is_some() {
+            return Err(self.error(
+                span.clone(),
+                "render.prune_below",
+                "belongs to the \"whitted\" integrator; the \"path\" integrator's Russian roulette has no \
+                 setting (remove prune_below)"
+                    .to_string(),
+            ));
+        }
         let spp = in_range(desc.spp.unwrap_or(defaults.spp), 1, MAX_SPP, "render.spp")?;
-        let max_depth =
-            in_range(desc.max_depth.unwrap_or(defaults.max_depth), 1, MAX_DEPTH, "render.max_depth")?;
+        let max_depth = in_range(
+            desc.max_depth.unwrap_or(integrator.default_max_depth()),
+            1,
+            MAX_DEPTH,
+            "render.max_depth",
+        )?;
         let wavelengths = in_range(
             desc.wavelengths.unwrap_or(defaults.wavelengths as u32),
             1,
@@ -234,6 +252,7 @@ impl Builder<'_> {
             paths => paths,
         };
         let settings = RenderSettings {
+            integrator,
             spp,
             max_depth,
             wavelengths: wavelengths as usize,

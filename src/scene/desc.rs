@@ -81,6 +81,8 @@ fn default_up() -> [f32; 3] {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RenderDesc {
+    /// The camera's estimator: `"whitted"` (the default) or `"path"` (full transport).
+    pub integrator: Option<String>,
     /// Camera samples per pixel.
     pub spp: Option<u32>,
     /// Maximum number of specular bounces (recursion depth).
@@ -91,7 +93,8 @@ pub struct RenderDesc {
     pub seed: Option<u64>,
     /// Stratified samples per quad light at each diffuse shading point.
     pub area_light_samples: Option<u32>,
-    /// Branch weight under which Russian roulette may prune a Whitted branch (0 turns pruning off).
+    /// Branch weight under which Russian roulette may prune a Whitted branch (0 turns pruning
+    /// off). Whitted's alone: the path tracer's roulette has no setting.
     pub prune_below: Option<f32>,
     /// Carry Stokes vectors along every path (true, the default) or only radiance, with each
     /// interface's reflectance averaged over s and p (false: faster, approximate).

@@ -21,12 +21,60 @@ use crate::material::Material;
 use crate::spectrum::DenseSpectrum;
 use limits::{MAX_DEPTH_UNPRUNED, MIN_PRUNE_BELOW_DEEP};
 
+/// The estimator of the camera's image ([`crate::integrator`]), chosen per scene
+/// (`[render] integrator`) or on the command line (`--integrator`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum IntegratorKind {
+    /// Whitted's recursion: direct light at diffuse surfaces, both branches at glass, no
+    /// interreflection and no light from the background (the seed's model, and the fast preview).
+    #[default]
+    Whitted,
+    /// Full transport ([`crate::integrator::PathTracer`]): unidirectional path tracing with
+    /// next-event estimation and multiple importance sampling, the background as a light, and,
+    /// with `caustics`, the light tracer for the paths camera paths cannot make.
+    Path,
+}
+
+impl IntegratorKind {
+    /// Every integrator, in the order users are told about them.
+    pub const ALL: [IntegratorKind; 2] = [IntegratorKind::Whitted, IntegratorKind::Path];
+
+    /// The name a scene file and the command line use (as Mitsuba and pbrt name theirs).
+    pub fn name(self) -> &'static str {
+        match self {
+            IntegratorKind::Whitted => "whitted",
+            IntegratorKind::Path => "path",
+        }
+    }
+
+    /// The integrator named `name`, or an error listing the valid names.
+    pub fn from_name(name: &str) -> Result<Self, String> {
+        Self::ALL.into_iter().find(|kind| kind.name() == name).ok_or_else(|| {
+            let names: Vec<_> = Self::ALL.iter().map(|kind| format!("\"{}\"", kind.name())).collect();
+            format!("unknown integrator {name:?}; valid: {}", names.join(", "))
+        })
+    }
+
+    /// The default `max_depth` of this integrator: specular bounces for Whitted; every bounce
+    /// (diffuse or specular) for the path tracer, where Russian roulette ends most paths long
+    /// before it.
+    pub fn default_max_depth(self) -> u32 {
+        match self {
+            IntegratorKind::Whitted => 16,
+            IntegratorKind::Path => 256,
+        }
+    }
+}
+
 /// Sampling settings of a render.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RenderSettings {
+    /// The camera's estimator.
+    pub integrator: IntegratorKind,
     /// Camera samples per pixel (≥ 1).
     pub spp: u32,
-    /// Maximum recursion depth: the number of specular bounces a camera ray may take.
+    /// Maximum depth: the number of specular bounces a camera ray may take (Whitted), or of
+    /// bounces of any kind along a path (the path tracer).
     pub max_depth: u32,
     /// Wavelengths each camera sample carries (1..=`N_LAMBDA`).
     pub wavelengths: usize,
@@ -65,8 +113,9 @@ impl RenderSettings {
 impl Default for RenderSettings {
     fn default() -> Self {
         Self {
+            integrator: IntegratorKind::Whitted,
             spp: 16,
-            max_depth: 16,
+            max_depth: IntegratorKind::Whitted.default_max_depth(),
             wavelengths: 8,
             seed: 0,
             area_light_samples: 4,
@@ -87,7 +136,11 @@ impl RenderSettings {
     /// sample); with stronger pruning, Russian roulette bounds the tree at any depth. The error
     /// says what to change.
     pub fn check_ray_tree_bound(&self) -> Result<(), String> {
-        if self.prune_below < MIN_PRUNE_BELOW_DEEP && self.max_depth > MAX_DEPTH_UNPRUNED {
+        // A path tracer's paths are no tree: at most one branch per wavelength lane.
+        if self.integrator == IntegratorKind::Whitted
+            && self.prune_below < MIN_PRUNE_BELOW_DEEP
+            && self.max_depth > MAX_DEPTH_UNPRUNED
+        {
             return Err(format!(
                 "max_depth = {} with prune_below = {} could cost up to 2^{} rays per sample; with \
                  prune_below below {MIN_PRUNE_BELOW_DEEP:e}, max_depth must be at most \
