@@ -40,6 +40,14 @@ pub enum FaultArg {
     LightRadianceScaling,
     /// The light tracer misses the cosine at the diffuse receiver toward the camera.
     NoReceiverCosine,
+    /// The path tracer's MIS weights do not add up to one (direct light counted twice).
+    MisWeights,
+    /// The path tracer's diffuse bounces drop the cosine.
+    NoDiffuseCosine,
+    /// The background lights nothing in the path tracer.
+    DarkBackground,
+    /// The path tracer counts the light tracer's paths too (caustic paths counted twice).
+    CausticsTwice,
 }
 
 /// Arguments of `prisma validate`.
@@ -82,6 +90,10 @@ pub fn run(args: &ValidateArgs) -> Result<(), CliError> {
         FaultArg::Unpolarized => Fault::Unpolarized,
         FaultArg::LightRadianceScaling => Fault::LightPathRadianceScaling,
         FaultArg::NoReceiverCosine => Fault::NoReceiverCosine,
+        FaultArg::MisWeights => Fault::MisWeightsUnnormalized,
+        FaultArg::NoDiffuseCosine => Fault::NoDiffuseCosine,
+        FaultArg::DarkBackground => Fault::DarkBackground,
+        FaultArg::CausticsTwice => Fault::CausticsCountedTwice,
     });
     let threads = args.threads.unwrap_or(0) as usize;
     if !args.dir.join("cases.toml").is_file() {

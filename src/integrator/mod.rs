@@ -54,6 +54,19 @@ pub enum Fault {
     /// The light tracer drops the cosine at the diffuse receiver (the cosine between its normal
     /// and the direction to the camera) when it connects a light path to the camera.
     NoReceiverCosine,
+    /// The path tracer's multiple-importance weights do not add up to one: next-event
+    /// estimation and a BSDF-sampled hit of the same light both count in full (weight 1 each),
+    /// so direct light from area lights and the background is counted twice.
+    MisWeightsUnnormalized,
+    /// The path tracer's diffuse bounces drop the cosine: each sampled direction's weight is
+    /// ρ/cos θ where f·cos θ/pdf = ρ is right.
+    NoDiffuseCosine,
+    /// The background does not light in the path tracer: it is seen by camera rays (as
+    /// Whitted sees it) but neither next-event estimation nor a bounce gathers it.
+    DarkBackground,
+    /// The path tracer also counts the paths the light tracer counts (L S⁺ D … D E, from the
+    /// lights the light tracer emits from): those paths are counted twice.
+    CausticsCountedTwice,
 }
 
 /// Each dielectric's index of refraction at the one wavelength of a monochromatic render, by
