@@ -44,7 +44,9 @@ use crate::edges::{self, EdgeMap};
 use crate::film::{add_weighted_sample, Film, FilmLayout, NonFinitePixel, SpectralBands, Splats, WindowSums};
 use crate::fixed::FixedSum;
 use crate::integrator::light_tracer::Scratch;
-use crate::integrator::{guide, CameraIntegrator, Fault, LightTracer, PathBeam, PathTracer, TraceStats, Whitted};
+use crate::integrator::{
+    guide, CameraIntegrator, Fault, LightTracer, PathBeam, PathTracer, TraceStats, Whitted,
+};
 use crate::memory;
 use crate::part::{PixelWindow, SampleSet};
 use crate::polarization::Stokes;
@@ -527,7 +529,12 @@ fn camera_block(
 /// The edge map of the job's window ([`crate::edges`]) from the first pass's camera luminance
 /// of the window and the pixels around it: read from `first_pass` (sums holding exactly the
 /// first pass of the window) where given, rendered for the map alone elsewhere.
-fn find_edges(scene: &Scene, integrator: &CameraIntegrator, job: &Job, first_pass: Option<&WindowSums>) -> EdgeMap {
+fn find_edges(
+    scene: &Scene,
+    integrator: &CameraIntegrator,
+    job: &Job,
+    first_pass: Option<&WindowSums>,
+) -> EdgeMap {
     let (width, height) = (scene.camera.width(), scene.camera.height());
     let window = job.window.unwrap_or(PixelWindow::full(width, height));
     let area = edges::surrounding(window, width, height);

@@ -58,7 +58,9 @@ use glam::Vec3;
 
 use super::response::{PathBeam, Response};
 use super::visibility::{self, Sheet};
-use super::{coated_matrices, element, fresnel, refraction, rotation, Fault, MonochromaticIndices, TraceStats};
+use super::{
+    coated_matrices, element, fresnel, refraction, rotation, Fault, MonochromaticIndices, TraceStats,
+};
 use crate::geometry::{spawn_origin, Hit, Ray};
 use crate::light::{Light, LightSample};
 use crate::material::{Dielectric, Diffuse, Material};
@@ -259,8 +261,10 @@ impl<'a> PathTracer<'a> {
                     let (axis, element, spectrum) = sheet.element(self.fault, hit.normal, -dir, wavelengths);
                     let mueller = Mueller::splat(element).scaled(spectrum);
                     if B::POLARIZED {
-                        state.response =
-                            state.response.rotated(rotation(self.fault, -dir, axis, state.frame_x)).through(&mueller);
+                        state.response = state
+                            .response
+                            .rotated(rotation(self.fault, -dir, axis, state.frame_x))
+                            .through(&mueller);
                         state.frame_x = axis;
                     } else {
                         state.response = state.response.through(&mueller);
@@ -304,8 +308,9 @@ impl<'a> PathTracer<'a> {
         match state.previous {
             Previous::Camera => 1.0,
             Previous::Specular => {
-                let light_tracer_has_it =
-                    state.diffuse_seen && state.eye_vertex_diffuse == Some(true) && self.light_tracer_counts_caustics;
+                let light_tracer_has_it = state.diffuse_seen
+                    && state.eye_vertex_diffuse == Some(true)
+                    && self.light_tracer_counts_caustics;
                 if light_tracer_has_it && self.fault != Some(Fault::CausticsCountedTwice) {
                     0.0
                 } else {
@@ -379,7 +384,8 @@ impl<'a> PathTracer<'a> {
             let mut sum = SampledSpectrum::zero();
             match light {
                 Light::Point(point) => {
-                    if let Some((w, s)) = point.sample(hit.point).and_then(|sample| arriving(&sample, stats)) {
+                    if let Some((w, s)) = point.sample(hit.point).and_then(|sample| arriving(&sample, stats))
+                    {
                         sum += s * w;
                     }
                 }
@@ -403,7 +409,10 @@ impl<'a> PathTracer<'a> {
                         let mis = if self.fault == Some(Fault::MisWeightsUnnormalized) {
                             1.0
                         } else {
-                            power_heuristic(1.0 / sample.weight, Diffuse::pdf(shading_normal, sample.to_light))
+                            power_heuristic(
+                                1.0 / sample.weight,
+                                Diffuse::pdf(shading_normal, sample.to_light),
+                            )
                         };
                         sum += s * (w * mis);
                     }
@@ -537,13 +546,14 @@ impl<'a> PathTracer<'a> {
         let first_live = lanes.clone().next().unwrap_or(0);
         let split = dielectric.ior.is_dispersive() && state.live.count_ones() > 1;
         let fresnel_at = |lane: usize| {
-            fresnel(self.fault, cos_theta_i, self.indices.ior(material, dielectric, wavelengths.lambda_nm(lane)))
+            fresnel(
+                self.fault,
+                cos_theta_i,
+                self.indices.ior(material, dielectric, wavelengths.lambda_nm(lane)),
+            )
         };
-        let fresnel: [DielectricFresnel; N_LAMBDA] = if split {
-            std::array::from_fn(fresnel_at)
-        } else {
-            [fresnel_at(first_live); N_LAMBDA]
-        };
+        let fresnel: [DielectricFresnel; N_LAMBDA] =
+            if split { std::array::from_fn(fresnel_at) } else { [fresnel_at(first_live); N_LAMBDA] };
         let coated = dielectric.is_coated().then(|| {
             coated_matrices::<B>(self.fault, dielectric, cos_theta_i, wavelengths, state.live, |lane| {
                 self.indices.ior(material, dielectric, wavelengths.lambda_nm(lane))

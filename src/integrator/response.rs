@@ -141,7 +141,12 @@ impl Response<Stokes> for StokesResponse {
         }
         Self {
             rows: self.rows.map(|[r0, r1, r2, r3]| {
-                [r0 * m.a + r1 * m.b, r0 * m.b + r1 * m.a, r2 * m.w_re - r3 * m.w_im, r2 * m.w_im + r3 * m.w_re]
+                [
+                    r0 * m.a + r1 * m.b,
+                    r0 * m.b + r1 * m.a,
+                    r2 * m.w_re - r3 * m.w_im,
+                    r2 * m.w_im + r3 * m.w_re,
+                ]
             }),
             depolarized: false,
         }
@@ -197,14 +202,21 @@ mod tests {
         let light = stokes([1.0, 0.3, -0.2, 0.5]);
         let backward = m2.apply(&light).rotated(r2);
         let backward = m1.apply(&backward).rotated(r1);
-        let forward =
-            StokesResponse::identity(SampledSpectrum::splat(1.0)).rotated(r1).through(&m1).rotated(r2).through(&m2);
+        let forward = StokesResponse::identity(SampledSpectrum::splat(1.0))
+            .rotated(r1)
+            .through(&m1)
+            .rotated(r2)
+            .through(&m2);
         // P·S by columns: column j of P times S_j.
-        let applied: [f32; 4] = std::array::from_fn(|i| {
-            (0..4).map(|j| forward.entry(i, j)[0] * light.s[j][0]).sum::<f32>()
-        });
+        let applied: [f32; 4] =
+            std::array::from_fn(|i| (0..4).map(|j| forward.entry(i, j)[0] * light.s[j][0]).sum::<f32>());
         for i in 0..4 {
-            assert!((applied[i] - backward.s[i][0]).abs() < 1e-6, "S{i}: {} vs {}", applied[i], backward.s[i][0]);
+            assert!(
+                (applied[i] - backward.s[i][0]).abs() < 1e-6,
+                "S{i}: {} vs {}",
+                applied[i],
+                backward.s[i][0]
+            );
         }
     }
 
