@@ -30,13 +30,25 @@
 //! isolated highlights, which then look like outliers. prisma's own noise (stratified, and
 //! small beside the references') is still estimated from its pair.
 //!
-//! This is the per-pixel test of Mitsuba 3's own image regression tests (reference mean and
-//! variance images).
+//! Beside these, where the references carry variance images, Mitsuba 3's own pass rule
+//! (`src/render/tests/test_renders.py`, [`Sidak`]): per pixel and channel, the two-sided
+//! p-value of z against the Šidák-corrected level α = 1 − (1 − 0.01)^(1/N), N the number of
+//! compared pixels; at least 99.75 % of the tests must pass. Mitsuba takes the test image's
+//! variance from the reference's per-sample variance (the same estimator on both sides) and
+//! neglects the reference's noise; here the two renderers differ, so z is the one above with
+//! the reference's per-pixel variance and, for prisma, the larger of the pooled estimate and the
+//! pixel's own (a − b)²/4 (validation/README.md, "Mitsuba's pass rule").
 
 /// |z| above which a pixel counts as an outlier.
 pub const Z_OUTLIER: f64 = 5.0;
 /// Radius of the window over which variance is pooled.
 pub const POOL_RADIUS: usize = 3;
+/// Family-wise significance level of Mitsuba 3's image test (`test_renders.py`): the chance that
+/// a correct image has any pixel test below the Šidák-corrected level.
+pub const SIDAK_SIGNIFICANCE: f64 = 0.01;
+/// Fraction of Mitsuba 3's per-pixel tests that must pass (`test_renders.py`: 99.75 %); the
+/// check fails when more than 1 − this fail.
+pub const SIDAK_MIN_PASS_FRACTION: f64 = 0.9975;
 
 /// A multi-channel float image, channel-major: `data[c][y·width + x]`.
 #[derive(Debug, Clone, PartialEq)]
@@ -101,6 +113,62 @@ pub struct Comparison {
     pub z_map: Vec<f64>,
     /// Mean of p̄ / mean of m̄ per channel.
     pub mean_ratio: Vec<f64>,
+    /// Mitsuba 3's own pass rule, when the references carry variance images ([`Sidak`]).
+    pub sidak: Option<Sidak>,
+}
+
+/// Mitsuba 3's pass rule for an image (`src/render/tests/test_renders.py`): per pixel and
+/// channel a two-sided z-test of the mean difference, at the Šidák-corrected level
+/// α = 1 − (1 − [`SIDAK_SIGNIFICANCE`])^(1/N), N the number of compared pixels; the image
+/// passes when at least [`SIDAK_MIN_PASS_FRACTION`] of the pixel-channel tests pass.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sidak {
+    /// The per-test significance level α.
+    pub alpha: f64,
+    /// Number of pixel-channel tests (compared pixels × channels).
+    pub tests: usize,
+    /// Fraction of the tests whose p-value is not above α (a NaN fails).
+    pub failing_fraction: f64,
+}
+
+impl Sidak {
+    /// True when at least [`SIDAK_MIN_PASS_FRACTION`] of the tests pass.
+    pub fn passed(&self) -> bool {
+        self.failing_fraction <= 1.0 - SIDAK_MIN_PASS_FRACTION
+    }
+}
+
+/// Šidák's per-test level for `tests` independent tests at family-wise level `significance`:
+/// 1 − (1 − significance)^(1/tests), computed without cancellation.
+pub fn sidak_alpha(significance: f64, tests: usize) -> f64 {
+    -((-significance).ln_1p() / tests.max(1) as f64).exp_m1()
+}
+
+/// The two-sided p-value of a standard normal statistic: P(|Z| ≥ |z|) = erfc(|z|/√2). NaN
+/// for a NaN z.
+pub fn two_sided_p(z: f64) -> f64 {
+    erfc(z.abs() / std::f64::consts::SQRT_2)
+}
+
+/// The complementary error function, to a relative error below 1.2·10⁻⁷ for every x
+/// (Press et al., Numerical Recipes, 2nd ed., §6.2, Chebyshev fit `erfcc`): enough to compare a
+/// p-value with α, whose own uncertainty (the variance estimates) is far larger.
+fn erfc(x: f64) -> f64 {
+    let t = 1.0 / (1.0 + 0.5 * x.abs());
+    let poly = -1.265_512_23
+        + t * (1.000_023_68
+            + t * (0.374_091_96
+                + t * (0.096_784_18
+                    + t * (-0.186_288_06
+                        + t * (0.278_868_07
+                            + t * (-1.135_203_98
+                                + t * (1.488_515_87 + t * (-0.822_152_23 + t * 0.170_872_77))))))));
+    let tail = t * (-x * x + poly).exp();
+    if x >= 0.0 {
+        tail
+    } else {
+        2.0 - tail
+    }
 }
 
 /// What a comparison takes beside the four images.
@@ -156,6 +224,8 @@ pub fn compare_with(
     let mut outlier = vec![false; n];
     let (mut rel_mse, mut rel_mse_excess, mut mean_z, mut mean_ratio) = (0.0, 0.0, 0.0f64, Vec::new());
     let mut null_outlier = vec![false; n];
+    let alpha = sidak_alpha(SIDAK_SIGNIFICANCE, counted);
+    let mut sidak_failed = 0usize;
     for c in 0..ref_a.data.len() {
         let mean = |a: &Planes, b: &Planes| -> Vec<f64> {
             (0..n).map(|i| 0.5 * (a.data[c][i] + b.data[c][i])).collect()
@@ -177,6 +247,20 @@ pub fn compare_with(
                 0.5 * (test_a.data[c][i] - test_b.data[c][i]) + 0.5 * (ref_a.data[c][i] - ref_b.data[c][i]);
             let z = null_diff / (vp[i] + vm[i] + floor * floor).sqrt();
             null_outlier[i] |= z.is_nan() || z.abs() > Z_OUTLIER;
+        }
+        // Mitsuba's rule, where the references' variance is known per pixel. prisma's
+        // variance per pixel is the larger of the pooled estimate and the pixel's own
+        // (a − b)²/4: the latter is unbiased for the variance of (a + b)/2, so the larger is
+        // never biased low, also on an edge or highlight noisier than its window.
+        if options.reference_variance.is_some() {
+            for i in (0..n).filter(|&i| kept(i)) {
+                let floor = 1e-4 + 1e-3 * m[i].abs();
+                let own = 0.25 * (test_a.data[c][i] - test_b.data[c][i]).powi(2);
+                let z = (p[i] - m[i]) / (vp[i].max(own) + vm[i] + floor * floor).sqrt();
+                // A test passes when p > α; a NaN p-value is not, so it fails.
+                let passed = two_sided_p(z) > alpha;
+                sidak_failed += usize::from(!passed);
+            }
         }
         let (mut sum_diff, mut sum_var, mut sum_p, mut sum_m) = (0.0, 0.0, 0.0, 0.0);
         for i in (0..n).filter(|&i| kept(i)) {
@@ -215,6 +299,10 @@ pub fn compare_with(
         mean_z,
         z_map,
         mean_ratio,
+        sidak: options.reference_variance.map(|_| {
+            let tests = counted * ref_a.data.len();
+            Sidak { alpha, tests, failing_fraction: sidak_failed as f64 / tests.max(1) as f64 }
+        }),
     }
 }
 
@@ -331,6 +419,99 @@ mod tests {
         }
         assert!(flagged_pooled > 10, "pooled: {flagged_pooled} of 40");
         assert_eq!(flagged_per_pixel, 0);
+    }
+
+    /// The Šidák rule's four images: prisma's pair (σ = 0.02 each) of `truth` shifted by
+    /// `bias`, Mitsuba's pair (σ = 0.01 each) of `truth`, and the references' known variance
+    /// image, (0.01² + 0.01²)/4 per pixel, as `render_references.py` writes it.
+    fn sidak_case(bias: f64) -> (Planes, Planes, Planes, Planes, Planes) {
+        let truth = |i: usize| 0.5 + 0.3 * ((i % 64) as f64 / 64.0);
+        let shifted = move |i: usize| truth(i) + bias;
+        let variance = Planes { width: 64, height: 64, data: vec![vec![0.5 * 0.01f64.powi(2); 64 * 64]] };
+        (
+            image(shifted, 0.02, 1),
+            image(shifted, 0.02, 2),
+            image(truth, 0.01, 3),
+            image(truth, 0.01, 4),
+            variance,
+        )
+    }
+
+    fn sidak_of(
+        test_a: &Planes,
+        test_b: &Planes,
+        ref_a: &Planes,
+        ref_b: &Planes,
+        variance: &Planes,
+    ) -> Sidak {
+        let options = Options { reference_variance: Some(variance), ..Options::default() };
+        compare_with(test_a, test_b, ref_a, ref_b, &options).sidak.expect("variance given")
+    }
+
+    /// σ of p̄ − m̄ per pixel in [`sidak_case`]: √(0.02²/2 + 0.01²/2).
+    const SIDAK_CASE_SIGMA: f64 = 0.015_811_388;
+
+    #[test]
+    fn sidak_alpha_and_p_values_match_closed_forms() {
+        // One test: α is the family-wise level; two: 1 − √0.99.
+        assert!((sidak_alpha(0.01, 1) - 0.01).abs() < 1e-15);
+        assert!((sidak_alpha(0.01, 2) - (1.0 - 0.99f64.sqrt())).abs() < 1e-15);
+        // 32 000 pixels (a 200 × 160 reference): α = 3.1408·10⁻⁷, |z| > 5.11 fails.
+        let alpha = sidak_alpha(0.01, 32_000);
+        assert!((alpha / 3.140_729_461e-7 - 1.0).abs() < 1e-9, "{alpha}");
+        // Two-sided normal tails: P(|Z| ≥ 1) = 0.3173105, ≥ 3: 2.699796·10⁻³, ≥ 5: 5.733031·10⁻⁷
+        // (erfc(z/√2)); relative error under 2·10⁻⁷.
+        for (z, p) in [
+            (0.0, 1.0),
+            (1.0, 0.317_310_507_862_914),
+            (-3.0, 2.699_796_063_260_19e-3),
+            (5.0, 5.733_031_437_583_9e-7),
+        ] {
+            assert!((two_sided_p(z) / p - 1.0).abs() < 2e-7, "z {z}: {} against {p}", two_sided_p(z));
+        }
+        assert!((erfc(-1.0) - 1.842_700_792_949_715).abs() < 2e-7);
+        assert!(two_sided_p(f64::NAN).is_nan());
+    }
+
+    #[test]
+    fn sidak_rule_passes_the_same_mean_with_known_noise() {
+        let (test_a, test_b, ref_a, ref_b, variance) = sidak_case(0.0);
+        let sidak = sidak_of(&test_a, &test_b, &ref_a, &ref_b, &variance);
+        assert_eq!(sidak.tests, 64 * 64);
+        assert!(sidak.passed() && sidak.failing_fraction < 1e-3, "{sidak:?}");
+    }
+
+    #[test]
+    fn sidak_rule_fails_a_bias_of_three_sigma() {
+        // 3σ of the per-pixel noise of p̄ − m̄: each pixel's |z| exceeds the Šidák level
+        // (|z| > 4.71 for 4096 pixels) 4.4 % of the time with exact variances (measured here:
+        // 4.8 %), far above the 0.25 % allowed.
+        let (test_a, test_b, ref_a, ref_b, variance) = sidak_case(3.0 * SIDAK_CASE_SIGMA);
+        let sidak = sidak_of(&test_a, &test_b, &ref_a, &ref_b, &variance);
+        assert!(!sidak.passed() && sidak.failing_fraction > 0.005, "{sidak:?}");
+    }
+
+    #[test]
+    fn sidak_rule_fails_nan_pixels() {
+        let (mut test_a, test_b, ref_a, ref_b, variance) = sidak_case(0.0);
+        let clean = sidak_of(&test_a, &test_b, &ref_a, &ref_b, &variance);
+        // One NaN pixel fails its test (its p-value is not above α)…
+        test_a.data[0][64 * 32 + 32] = f64::NAN;
+        let one = sidak_of(&test_a, &test_b, &ref_a, &ref_b, &variance);
+        assert_eq!(one.failing_fraction * 4096.0, clean.failing_fraction * 4096.0 + 1.0);
+        // …and NaN in 1 pixel of 64 fails the image (a single one is left to relMSE, which
+        // a NaN makes NaN).
+        for i in (0..64 * 64).step_by(64) {
+            test_a.data[0][i] = f64::NAN;
+        }
+        let many = sidak_of(&test_a, &test_b, &ref_a, &ref_b, &variance);
+        assert!(!many.passed(), "{many:?}");
+    }
+
+    #[test]
+    fn no_sidak_rule_without_reference_variance() {
+        let (test_a, test_b, ref_a, ref_b, _) = sidak_case(0.0);
+        assert!(compare(&test_a, &test_b, &ref_a, &ref_b).sidak.is_none());
     }
 
     #[test]

@@ -5,7 +5,7 @@
 use std::path::Path;
 
 use super::cases::{self, Case};
-use super::metrics::{compare_with, Comparison, Options, Planes, Z_OUTLIER};
+use super::metrics::{compare_with, Comparison, Options, Planes, SIDAK_MIN_PASS_FRACTION, Z_OUTLIER};
 use super::{CaseResult, Check, ValidateError};
 use crate::integrator::Fault;
 use crate::output::exr::read_exr;
@@ -147,7 +147,7 @@ pub fn run_case(
             mean_tolerance: case.mean_tolerance.unwrap_or(0.0),
         },
     );
-    let checks = vec![
+    let mut checks = vec![
         Check {
             metric: "relMSE beyond noise".into(),
             value: comparison.rel_mse_excess,
@@ -164,6 +164,14 @@ pub fn run_case(
             threshold: case.max_mean_z.unwrap_or(cases::DEFAULT_MAX_MEAN_Z),
         },
     ];
+    // Mitsuba 3's own rule beside prisma's metrics, where the references' variance is known.
+    if let Some(sidak) = comparison.sidak {
+        checks.push(Check {
+            metric: "Šidák z-tests failing".into(),
+            value: sidak.failing_fraction,
+            threshold: case.max_sidak_failing_fraction.unwrap_or(1.0 - SIDAK_MIN_PASS_FRACTION),
+        });
+    }
     let mean = |a: &Planes, b: &Planes| Planes {
         width: a.width,
         height: a.height,
