@@ -134,6 +134,13 @@ const MAX_MEAN_Z: f64 = 5.0;
 /// through a diffuse vertex would show at 10⁻² and more).
 const MAX_POLARIZATION: f64 = 1e-6;
 
+/// The deepest path: the light of the bounces beyond it is at most ρ_max³¹ = 0.7³¹ ≈ 1.6·10⁻⁵
+/// of the answer, 20 times below the noise of the means (Russian roulette ends nearly every
+/// path long before), and under a fault that inflates the throughput (`no-diffuse-cosine`:
+/// roulette then never ends a path) the cap bounds the cost. Whitted reads it as its specular
+/// depth, of which these scenes have none.
+const MAX_DEPTH: u32 = 32;
+
 struct Context {
     threads: usize,
     fault: Option<Fault>,
@@ -151,12 +158,12 @@ impl Context {
     fn sphere_point_light(&self, name: &str, integrator: Integrator) -> Result<CaseResult, ValidateError> {
         let radius = 1.0f64;
         let (spp, tolerance) = match integrator {
-            Integrator::Path => (64, Tolerance { mean: 3e-3, pixel: Some(0.05) }),
+            Integrator::Path => (256, Tolerance { mean: 2e-3, pixel: Some(0.06) }),
             Integrator::Whitted => (16, Tolerance { mean: 1e-4, pixel: Some(1e-3) }),
         };
         let text = format!(
             "[camera]\nposition = [0.2, -0.1, -0.3]\nlook_at = [0.5, 0.3, 1]\nfov_y_deg = 90\nwidth = 32\nheight = 32\n\
-             [render]\nintegrator = \"{integrator}\"\nspp = {spp}\nseed = 7\n\
+             [render]\nintegrator = \"{integrator}\"\nspp = {spp}\nmax_depth = {MAX_DEPTH}\nseed = 7\n\
              [materials.wall]\ntype = \"diffuse\"\nalbedo = {albedo}\n\
              [[shapes]]\ntype = \"sphere\"\ncenter = [0, 0, 0]\nradius = {radius}\nmaterial = \"wall\"\n\
              [[lights]]\ntype = \"point\"\nposition = [0, 0, 0]\nintensity = {intensity}\n",
@@ -165,7 +172,9 @@ impl Context {
             intensity = table_text(&INTENSITY),
         );
         let film = self.render(&text, name)?;
-        let direct = |l: f64| table_at(&ALBEDO, l) * table_at(&INTENSITY, l) / (std::f64::consts::PI * radius * radius);
+        let direct = |l: f64| {
+            table_at(&ALBEDO, l) * table_at(&INTENSITY, l) / (std::f64::consts::PI * radius * radius)
+        };
         let full = |l: f64| direct(l) / (1.0 - table_at(&ALBEDO, l));
         let all: Vec<usize> = (0..film.xyz().len()).collect();
         let mut checks = Vec::new();
@@ -198,7 +207,7 @@ impl Context {
     /// inside (a corner in view, where three walls meet).
     fn emitting_box(&self, name: &str, integrator: Integrator) -> Result<CaseResult, ValidateError> {
         let (spp, tolerance) = match integrator {
-            Integrator::Path => (64, Tolerance { mean: 3e-3, pixel: Some(0.05) }),
+            Integrator::Path => (128, Tolerance { mean: 2e-3, pixel: Some(0.06) }),
             // Whitted samples each wall by area: near the edge a wall shares with another, the
             // other's 1/d² makes the estimate heavy-tailed (pixels on the edges 1.5× off at 16
             // spp), so only the mean is bounded.
@@ -216,7 +225,8 @@ impl Context {
         ];
         let mut lights = String::new();
         for (n, up) in walls {
-            let side = [up[1] * n[2] - up[2] * n[1], up[2] * n[0] - up[0] * n[2], up[0] * n[1] - up[1] * n[0]];
+            let side =
+                [up[1] * n[2] - up[2] * n[1], up[2] * n[0] - up[0] * n[2], up[0] * n[1] - up[1] * n[0]];
             let corner: Vec<i32> = (0..3).map(|k| n[k] - side[k] - up[k]).collect();
             lights += &format!(
                 "[[lights]]\ntype = \"quad\"\ncorner = {corner:?}\nedge1 = {:?}\nedge2 = {:?}\nradiance = {}\n\
@@ -229,7 +239,7 @@ impl Context {
         }
         let text = format!(
             "[camera]\nposition = [0.2, 0.1, -0.4]\nlook_at = [1, 1, 1]\nfov_y_deg = 100\nwidth = 32\nheight = 32\n\
-             [render]\nintegrator = \"{integrator}\"\nspp = {spp}\nseed = 7\n{lights}",
+             [render]\nintegrator = \"{integrator}\"\nspp = {spp}\nmax_depth = {MAX_DEPTH}\nseed = 7\n{lights}",
             integrator = integrator.name(),
         );
         let film = self.render(&text, name)?;
@@ -259,7 +269,7 @@ impl Context {
         let text = format!(
             "background = {sky}\n\
              [camera]\nposition = [0, 0, -{distance}]\nlook_at = [0, 0, 0]\nfov_y_deg = {fov_y_deg}\nwidth = {size}\nheight = {size}\n\
-             [render]\nintegrator = \"path\"\nspp = 64\nseed = 7\n\
+             [render]\nintegrator = \"path\"\nspp = 256\nmax_depth = {MAX_DEPTH}\nseed = 7\n\
              [materials.ball]\ntype = \"diffuse\"\nalbedo = {albedo}\n\
              [[shapes]]\ntype = \"sphere\"\ncenter = [0, 0, 0]\nradius = {radius}\nmaterial = \"ball\"\n",
             sky = table_text(&SKY),
@@ -292,14 +302,15 @@ impl Context {
             &film,
             &ball,
             expected_xyz(|l| table_at(&ALBEDO, l) * table_at(&SKY, l)),
-            Tolerance { mean: 3e-3, pixel: Some(0.05) },
+            Tolerance { mean: 2e-3, pixel: Some(0.06) },
         );
         checks.extend(compare(
             "sky",
             &film,
             &sky,
             expected_xyz(|l| table_at(&SKY, l)),
-            Tolerance { mean: 3e-3, pixel: Some(0.05) },
+            // Only the wavelengths' sampling is noisy on the sky.
+            Tolerance { mean: 1e-4, pixel: Some(1e-3) },
         ));
         let all: Vec<usize> = ball.iter().chain(&sky).copied().collect();
         checks.push(polarization(&film, &all));
@@ -316,15 +327,21 @@ impl Context {
 /// The checks of the pixels `pixels` of `film` against the closed form `expected` (XYZ): the
 /// region's mean relative to it and as a z-score of the noise measured from the pixels' spread,
 /// and the worst pixel in Y.
-fn compare(label: &str, film: &Film, pixels: &[usize], expected: [f64; 3], tolerance: Tolerance) -> Vec<Check> {
+fn compare(
+    label: &str,
+    film: &Film,
+    pixels: &[usize],
+    expected: [f64; 3],
+    tolerance: Tolerance,
+) -> Vec<Check> {
     let xyz = film.xyz();
     let component = |p: Vec3, k: usize| f64::from(p[k]);
     let count = pixels.len() as f64;
     let (mut worst_relative, mut worst_z) = (0.0f64, 0.0f64);
     for (k, &expected_k) in expected.iter().enumerate() {
         let mean = pixels.iter().map(|&i| component(xyz[i], k)).sum::<f64>() / count;
-        let variance =
-            pixels.iter().map(|&i| (component(xyz[i], k) - mean).powi(2)).sum::<f64>() / (count - 1.0).max(1.0);
+        let variance = pixels.iter().map(|&i| (component(xyz[i], k) - mean).powi(2)).sum::<f64>()
+            / (count - 1.0).max(1.0);
         // The standard error of the mean, with a floor for f32 rounding of noiseless pixels.
         let standard_error = (variance / count + (1e-6 * expected_k).powi(2)).sqrt();
         let relative = (mean / expected_k - 1.0).abs();
@@ -343,21 +360,24 @@ fn compare(label: &str, film: &Film, pixels: &[usize], expected: [f64; 3], toler
             }
         })
         .fold(0.0, f64::max);
-    if std::env::var("FURNACE_DEBUG").is_ok() {
-        let w = film.width() as usize;
-        let mut e: Vec<(f64, usize, usize)> = pixels.iter().map(|&i| (f64::from(xyz[i].y) / expected[1] - 1.0, i % w, i / w)).collect();
-        e.sort_by(|a, b| b.0.abs().total_cmp(&a.0.abs()));
-        eprintln!("{label}: worst {:?}", &e[..12.min(e.len())]);
-        let mut a: Vec<f64> = e.iter().map(|x| x.0.abs()).collect();
-        a.sort_by(f64::total_cmp);
-        eprintln!("{label}: quantiles 50% {:.3e} 90% {:.3e} 99% {:.3e}", a[a.len()/2], a[a.len()*9/10], a[a.len()*99/100]);
-    }
     let mut checks = vec![
-        Check { metric: format!("{label}: max |mean/expected − 1| (X, Y, Z)"), value: worst_relative, threshold: tolerance.mean },
-        Check { metric: format!("{label}: max |z| of the mean (X, Y, Z)"), value: worst_z, threshold: MAX_MEAN_Z },
+        Check {
+            metric: format!("{label}: max |mean/expected − 1| (X, Y, Z)"),
+            value: worst_relative,
+            threshold: tolerance.mean,
+        },
+        Check {
+            metric: format!("{label}: max |z| of the mean (X, Y, Z)"),
+            value: worst_z,
+            threshold: MAX_MEAN_Z,
+        },
     ];
     if let Some(threshold) = tolerance.pixel {
-        checks.push(Check { metric: format!("{label}: max pixel |Y/expected − 1|"), value: worst_pixel, threshold });
+        checks.push(Check {
+            metric: format!("{label}: max pixel |Y/expected − 1|"),
+            value: worst_pixel,
+            threshold,
+        });
     }
     checks
 }
@@ -373,11 +393,17 @@ fn polarization(film: &Film, pixels: &[usize]) -> Check {
             break;
         };
         for &i in pixels {
-            let ratio = (f64::from(component[i].y) / f64::from(s0[i].y)).abs();
+            // A black pixel (S0 = 0) is unpolarised when S1–S3 are zero too.
+            let (s_k, s_0) = (f64::from(component[i].y), f64::from(s0[i].y));
+            let ratio = if s_k == 0.0 { 0.0 } else { (s_k / s_0).abs() };
             worst = worst.max(if ratio.is_nan() { f64::INFINITY } else { ratio });
         }
     }
-    Check { metric: "max |S1|, |S2|, |S3| / S0 (Y, any pixel)".into(), value: worst, threshold: MAX_POLARIZATION }
+    Check {
+        metric: "max |S1|, |S2|, |S3| / S0 (Y, any pixel)".into(),
+        value: worst,
+        threshold: MAX_POLARIZATION,
+    }
 }
 
 #[cfg(test)]
