@@ -12,7 +12,13 @@
 //! edge2 = [0, 1, 2]
 //! radiance = { illuminant = "D65", scale = 10 }
 //! emit = "edge2_cross_edge1"       # the side light leaves from
+//! albedo = 0.5                     # optional: the quad's surface is diffuse, not black
 //! ```
+//!
+//! The quad is also a surface of the scene: black by default (it absorbs all light falling on
+//! it), or a Lambertian reflector of the given `albedo` (a reflectance in [0, 1], either side),
+//! so that a closed enclosure of emitting walls can interreflect (the emitting-box case of
+//! `prisma validate`, whose every pixel is Le/(1 − ρ) in full transport).
 
 use glam::Vec3;
 

@@ -125,18 +125,35 @@ impl Builder<'_> {
         let mut black = None;
         for (index, light) in desc.lights.iter().enumerate() {
             let built = self.light(index, light)?;
-            // Quad lights and beams are black parallelograms in the scene.
+            // Quad lights and beams are black parallelograms in the scene, but for a quad light
+            // given an `albedo`: a diffuse one.
             let surface = match &built {
                 Light::Quad(quad) => Some(quad.quad),
                 Light::Beam(beam) => Some(beam.quad),
                 Light::Point(_) | Light::Spot(_) => None,
             };
+            let albedo = match &light.get_ref().0 {
+                LightDesc::Quad { albedo: Some(albedo), .. } => Some(self.spectrum(
+                    albedo,
+                    Role::Reflectance,
+                    light.span(),
+                    &format!("lights[{index}].albedo"),
+                )?),
+                _ => None,
+            };
             if let Some(quad) = surface {
-                let material = *black.get_or_insert_with(|| {
-                    materials.push(Material::Black);
-                    material_names.push("(light)".to_owned());
-                    materials.len() as u32 - 1
-                });
+                let material = match albedo {
+                    Some(albedo) => {
+                        materials.push(Material::Diffuse(Diffuse::new(albedo, 0.0)));
+                        material_names.push(format!("(light {index})"));
+                        materials.len() as u32 - 1
+                    }
+                    None => *black.get_or_insert_with(|| {
+                        materials.push(Material::Black);
+                        material_names.push("(light)".to_owned());
+                        materials.len() as u32 - 1
+                    }),
+                };
                 shapes.push(Shape::Quad(quad));
                 surfaces.push(Surface { material, emitter: Some(lights.len() as u32) });
             }
@@ -805,7 +822,7 @@ impl Builder<'_> {
                 position: self.point(*position, span.clone(), &format!("{at}.position"))?,
                 intensity: self.spectrum(intensity, Role::Emission, span, &format!("{at}.intensity"))?,
             }),
-            LightDesc::Quad { corner, edge1, edge2, radiance, emit } => {
+            LightDesc::Quad { corner, edge1, edge2, radiance, emit, .. } => {
                 let quad = self.quad(*corner, *edge1, *edge2, span.clone(), &at)?;
                 let emit_normal = match emit {
                     EmitSide::Edge1CrossEdge2 => quad.normal(),
@@ -1005,6 +1022,33 @@ mod tests {
         let fine =
             format!("{CAMERA}[materials.w]\ntype = \"diffuse\"\nalbedo = {{ value = 1, scale = 0.5 }}\n");
         parse(&fine, Path::new("s.toml")).expect("albedo 0.5");
+    }
+
+    /// A quad light's `albedo` makes its surface diffuse (black without it), and is checked as
+    /// every reflectance is: in [0, 1], the error naming the field.
+    #[test]
+    fn quad_light_albedo_is_a_diffuse_reflectance() {
+        let light = |albedo: &str| {
+            format!(
+                "[[lights]]\ntype = \"quad\"\ncorner = [0, 0, 0]\nedge1 = [1, 0, 0]\nedge2 = [0, 1, 0]\n\
+                 radiance = 1\nemit = \"edge1_cross_edge2\"\n{albedo}"
+            )
+        };
+        for bad in ["albedo = 1.5\n", "albedo = -0.1\n", "albedo = { illuminant = \"D65\" }\n"] {
+            assert_rejected(&light(bad), &["lights[0].albedo", "reflectance"]);
+        }
+        let surface_material = |albedo: &str| {
+            let scene = parse(&format!("{CAMERA}{}", light(albedo)), Path::new("s.toml")).expect("loads");
+            scene.materials[scene.surfaces[0].material as usize].clone()
+        };
+        assert!(matches!(surface_material(""), Material::Black));
+        match surface_material("albedo = { table = [[400, 0.25], [700, 0.75]] }\n") {
+            Material::Diffuse(diffuse) => {
+                assert_eq!(diffuse.albedo.eval(400.0), 0.25);
+                assert!((diffuse.albedo.eval(550.0) - 0.5).abs() < 1e-6);
+            }
+            other => panic!("a quad light with an albedo is diffuse, not {other:?}"),
+        }
     }
 
     #[test]

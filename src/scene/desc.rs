@@ -262,6 +262,11 @@ pub enum LightDesc {
         radiance: SpectrumDesc,
         /// The side that emits.
         emit: EmitSide,
+        /// Diffuse (Lambertian) albedo of the emitting quad's surface, a reflectance in [0, 1]:
+        /// light falling on it is reflected as by a `diffuse` material (both sides). Black when
+        /// absent.
+        #[serde(default)]
+        albedo: Option<SpectrumDesc>,
     },
     /// A point light emitting into a cone (Mitsuba's `spot`).
     Spot {

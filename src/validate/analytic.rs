@@ -13,9 +13,9 @@ use crate::render::{render, Job};
 use crate::scene::{parse, Scene};
 
 /// Names of the analytic cases, in the order [`run`] runs them: the radiometric cases of this
-/// module, the polarisation cases of [`super::polarization`], then the caustic cases of
-/// [`super::caustics`].
-pub const CASES: [&str; 17] = [
+/// module, the polarisation cases of [`super::polarization`], the caustic cases of
+/// [`super::caustics`], then the closed forms of full transport of [`super::furnace`].
+pub const CASES: [&str; 22] = [
     "lambert_point_light",
     "furnace_glass",
     "furnace_dispersive_glass",
@@ -33,6 +33,11 @@ pub const CASES: [&str; 17] = [
     "prism_band_edges",
     "ball_lens_focus",
     "caustic_power",
+    "closed_sphere_point_light",
+    "closed_sphere_point_light_whitted",
+    "emitting_box",
+    "emitting_box_whitted",
+    "sphere_under_sky",
 ];
 
 /// What the analytic case `name` is compared with: the electric-field tracer for the
@@ -60,6 +65,7 @@ pub fn run(name: &str, threads: usize, fault: Option<Fault>) -> Result<CaseResul
         "snell_window" => ctx.snell_window(name),
         name if super::polarization::CASES.contains(&name) => super::polarization::run(name, threads, fault),
         name if super::caustics::CASES.contains(&name) => super::caustics::run(name, threads, fault),
+        name if super::furnace::CASES.contains(&name) => super::furnace::run(name, threads, fault),
         _ => Err(ValidateError::Input(format!(
             "unknown analytic case \"{name}\"; known: {}",
             CASES.join(", ")
