@@ -288,7 +288,7 @@ impl<'a> PathTracer<'a> {
     /// live lane survives with probability equal to its strongest lane, divided by it.
     fn survives<B: PathBeam>(&self, state: &mut PathState<B::Response>, rng: &mut PixelRng) -> bool {
         let strongest = state.response.strength().max_value();
-        if !(strongest > 0.0) {
+        if strongest.is_nan() || strongest <= 0.0 {
             return false;
         }
         if state.depth < ROULETTE_AFTER_BOUNCES || strongest >= 1.0 {
@@ -322,7 +322,7 @@ impl<'a> PathTracer<'a> {
                     return 1.0;
                 }
                 let cos_light = quad.emit_normal.dot(state.ray.dir).abs();
-                if !(cos_light > 0.0) {
+                if cos_light.is_nan() || cos_light <= 0.0 {
                     return 0.0;
                 }
                 // The density, per steradian, with which `area_light_samples` points on the quad
@@ -484,7 +484,7 @@ impl<'a> PathTracer<'a> {
         let (normal, shading_normal) = facing(hit, to_viewer);
         let (dir, pdf) = Diffuse::sample(shading_normal, (rng.uniform(), rng.uniform()));
         let cos_theta = shading_normal.dot(dir);
-        if !(pdf > 0.0) || normal.dot(dir) <= 0.0 {
+        if pdf.is_nan() || pdf <= 0.0 || normal.dot(dir) <= 0.0 {
             return false;
         }
         // f·cos θ/pdf = (ρ/π)·shape·cos θ/(cos θ/π) = ρ·shape.
@@ -590,7 +590,7 @@ impl<'a> PathTracer<'a> {
             }
         }
         let total = reflected_sum + transmitted_sum;
-        if !(total > 0.0) {
+        if total.is_nan() || total <= 0.0 {
             return false;
         }
         let p_reflect = reflected_sum / total;
@@ -654,7 +654,7 @@ fn facing(hit: &Hit, to_viewer: Vec3) -> (Vec3, Vec3) {
 #[inline]
 fn power_heuristic(chosen: f32, other: f32) -> f32 {
     let (a, b) = (chosen * chosen, other * other);
-    if !(a > 0.0) {
+    if a.is_nan() || a <= 0.0 {
         return 0.0;
     }
     if !b.is_finite() {

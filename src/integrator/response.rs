@@ -210,13 +210,8 @@ mod tests {
         // P·S by columns: column j of P times S_j.
         let applied: [f32; 4] =
             std::array::from_fn(|i| (0..4).map(|j| forward.entry(i, j)[0] * light.s[j][0]).sum::<f32>());
-        for i in 0..4 {
-            assert!(
-                (applied[i] - backward.s[i][0]).abs() < 1e-6,
-                "S{i}: {} vs {}",
-                applied[i],
-                backward.s[i][0]
-            );
+        for (i, value) in applied.iter().enumerate() {
+            assert!((value - backward.s[i][0]).abs() < 1e-6, "S{i}: {value} vs {}", backward.s[i][0]);
         }
     }
 

@@ -228,7 +228,7 @@ impl Builder<'_> {
             if let Some((field, _, why)) = whitted_only.into_iter().find(|(_, set, _)| *set) {
                 return Err(self.error(
                     span.clone(),
-                    &format!("render.{field}"),
+                    format!("render.{field}"),
                     format!(
                         "belongs to the \"whitted\" integrator; the \"path\" integrator has no use for it \
                          ({why}): remove {field}"
