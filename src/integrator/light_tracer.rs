@@ -754,3 +754,68 @@ fn lit_side(hit: &Hit, to_light: Vec3) -> (Vec3, Vec3) {
         (-hit.normal, -hit.shading_normal)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::polarization::Stokes;
+    use crate::sampler::LightPathSequence;
+
+    /// A diffuse floor of albedo 0.6.
+    const FLOOR: &str = r#"
+[camera]
+position = [0, 3, -5]
+look_at = [0, 0, 0]
+up = [0, 1, 0]
+fov_y_deg = 40
+width = 8
+height = 8
+
+[materials.floor]
+type = "diffuse"
+albedo = { value = 0.6 }
+
+[[shapes]]
+type = "plane"
+point = [0, 0, 0]
+normal = [0, 1, 0]
+material = "floor"
+"#;
+
+    /// A diffuse vertex depolarises: fully polarised light (S1 = 0.8·S0, S3 = 0.6·S0, so
+    /// S1² + S3² = S0²) arriving at the floor leaves it with S1–S3 zero and S0 times the albedo 0.6 (Lambert: f·cos θ/pdf = ρ), on the side it came from,
+    /// one interaction deeper. With the path's starting flux equal to what leaves, the
+    /// roulette keeps it as it is.
+    #[test]
+    fn a_diffuse_bounce_depolarises_and_weighs_by_the_albedo() {
+        let scene = crate::scene::parse(FLOOR, std::path::Path::new("floor.toml")).unwrap();
+        let tracer = LightTracer::new(&scene, &scene.settings, Some(550.0)).with_interreflection(true);
+        let wavelengths = SampledWavelengths::monochromatic(550.0);
+        let Material::Diffuse(diffuse) = &scene.materials[0] else { panic!("the floor is diffuse") };
+        let arriving = Vec3::new(0.6, -0.8, 0.0);
+        let hit = Hit { t: 1.0, point: Vec3::ZERO, normal: Vec3::Y, shading_normal: Vec3::Y, prim: 0 };
+        let s0 = SampledSpectrum::splat(2.0);
+        let photon = Photon {
+            ray: Ray::new(Vec3::new(-0.6, 0.8, 0.0), arriving),
+            frame_x: Vec3::Z,
+            flux: Stokes { s: [s0, s0 * 0.8, SampledSpectrum::zero(), s0 * 0.6] },
+            depth: 2,
+            through_specular: true,
+            after_diffuse: false,
+        };
+        let sequence = LightPathSequence::new(0);
+        for path in 0..64 {
+            let mut rng = sequence.path(path);
+            let mut scratch = Scratch::<Stokes>::default();
+            tracer.scatter(diffuse, &hit, &photon, &wavelengths, 1.2, &mut scratch, &mut rng);
+            let [left] = scratch.stack.as_slice() else {
+                panic!("one continuation, got {}", scratch.stack.len())
+            };
+            assert!((left.flux.s[0][0] - 1.2).abs() < 1e-6, "{:?}", left.flux);
+            assert!(left.flux.s[1..].iter().all(|s| s.is_zero()), "{:?}", left.flux);
+            assert!(left.ray.dir.y > 0.0 && left.ray.origin.y > 0.0);
+            assert!((left.frame_x.dot(left.ray.dir)).abs() < 1e-6);
+            assert_eq!((left.depth, left.through_specular, left.after_diffuse), (3, true, true));
+        }
+    }
+}
