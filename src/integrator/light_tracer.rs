@@ -3,19 +3,31 @@
 //! for Light Transport Simulation*, 1997, §3.7 and §5.2; Mitsuba 3's `ptracer`).
 //!
 //! # One image, two estimators, each path counted once
-//! In Heckbert's notation (L light, S a mirror or glass interaction, D diffuse, E the eye), with
-//! polarising sheets crossed freely by both:
-//! - [`super::Whitted`] counts **E S\* D L** (direct light at the first diffuse surface, shadow
-//!   rays blocked by mirrors and glass) and **E S\* L** (emitters and the background seen
-//!   directly or through mirrors and glass);
-//! - the light tracer counts **L S⁺ D E**: light that met at least one mirror or glass surface
-//!   before its first diffuse surface, which the camera sees directly. Paths whose first
-//!   interaction is diffuse (L D E) end there: Whitted has them.
+//! In Heckbert's notation (L light, S a mirror or glass interaction, D diffuse, X either, E the
+//! eye), with polarising sheets crossed freely by both estimators and not counted as vertices,
+//! the light tracer works beside one of two camera-side estimators:
 //!
-//! The classes are disjoint, so the two images add ([`crate::render`]), and a scene without
-//! mirrors or glass renders bit for bit as Whitted alone (tested). Still missing: **L S⁺ D S⁺ E**
-//! (a caustic seen in a mirror or through glass: the connection to the camera cannot pass a
-//! specular surface), and every path with two or more diffuse vertices (interreflection).
+//! | path class | Whitted render | full transport (`integrator = "path"`) |
+//! |---|---|---|
+//! | L S\* E (no diffuse vertex) | [`super::Whitted`] | the path tracer |
+//! | L D X\* E (diffuse next to the light) | [`super::Whitted`], L D S\* E only | the path tracer |
+//! | **L S⁺ D E** | **the light tracer** | **the light tracer** |
+//! | **L S⁺ D X\* D E** | nobody | **the light tracer, with interreflection** |
+//! | L S⁺ D X\* S⁺ E, area lights | nobody | the path tracer |
+//! | L S⁺ D X\* S⁺ E, point, spot and beam lights | nobody | nobody (still missing) |
+//!
+//! That is: Whitted counts **E S\* D L** and **E S\* L**, and the light tracer **L S⁺ D E**:
+//! light that met at least one mirror or glass surface before its first diffuse surface, which
+//! the camera sees directly; paths whose first interaction is diffuse (L D …) end there, as the
+//! camera side has them. In full transport ([`LightTracer::with_interreflection`]) the light
+//! tracer counts **L S⁺ D (X\* D)? E**: the same paths, connected to the camera at their first
+//! diffuse vertex and then at **every** diffuse vertex they reach after it; the path tracer
+//! counts every path whose vertex next to the light is diffuse, every path without a diffuse
+//! vertex, and for area lights the caustics seen through mirrors and glass (L S⁺ D X\* S⁺ E).
+//! The classes are disjoint, so the images add ([`crate::render`]); a scene without mirrors or
+//! glass renders bit for bit as its camera side alone (tested for Whitted). Still missing: a
+//! caustic of a point, spot or beam light seen in a mirror or through glass (**L S⁺ D X\* S⁺
+//! E**: the connection to the camera cannot pass a specular surface).
 //!
 //! # What a light path carries
 //! Flux: a light path starts with the light's power per unit wavelength divided by the
@@ -71,6 +83,25 @@
 //!
 //! Depth is capped at `max_depth` interactions with mirrors, glass and sheets, and paths whose
 //! flux falls below `prune_below` of their starting value go through Russian roulette.
+//!
+//! # Interreflection
+//! With [`LightTracer::with_interreflection`] (full transport), a path that reached its first
+//! diffuse vertex after a mirror or glass is connected to the camera there, as above, and then
+//! **goes on**: it leaves in a direction drawn by the cosine density
+//! ([`Diffuse::sample`]) about the normal on the side the light arrived from, its flux
+//! depolarised (S0 alone) and multiplied by f·cos θ/pdf = ρ(λ)·[`Diffuse::shape_factor`] (the
+//! BRDF with its two directions swapped: Lambert and Oren–Nayar's qualitative model are
+//! symmetric in them). From there it crosses mirrors, glass and sheets as before (one branch
+//! chosen by flux at glass; at a dispersive refraction every live lane on its own direction),
+//! and is connected to the camera at every diffuse vertex it reaches, scattering on from each.
+//! Once it has left a diffuse surface, every continuation whose flux is below the path's
+//! starting flux survives Russian roulette with probability (its flux)/(starting flux), the
+//! larger over the lanes, and is divided by it (unbiased; a survivor carries the starting flux
+//! again, so a path's splats stay of one size). `max_depth` then counts **every** interaction,
+//! diffuse, specular and sheets: a path is counted when its vertices between the light and the
+//! camera (the diffuse one the camera sees included) number at most `max_depth`. Shading normals
+//! shade as in the connection: Veach's correction for the adjoint of a shading normal (§5.3) is
+//! not applied, so on smooth-shaded diffuse meshes the light side is approximate there.
 
 use glam::Vec3;
 
@@ -97,7 +128,8 @@ const CONNECTION_SHORTENING: f32 = 1e-4;
 const MAX_SHEETS_PER_CONNECTION: usize = 16;
 
 /// A light path in flight: its ray, the Stokes frame of its flux, the flux, the interactions
-/// so far, and whether it has met a mirror or glass yet.
+/// so far, whether it has met a mirror or glass yet, and whether it has left a diffuse surface
+/// (with interreflection).
 #[derive(Debug, Clone, Copy)]
 struct Photon<B> {
     ray: Ray,
@@ -105,6 +137,7 @@ struct Photon<B> {
     flux: B,
     depth: u32,
     through_specular: bool,
+    after_diffuse: bool,
 }
 
 /// Where the branches of a path at a dielectric leave from: the hit, the path arriving, its
@@ -151,6 +184,8 @@ pub struct LightTracer<'a> {
     guide: EmissionGuide,
     /// Each glass's index at a monochromatic render's wavelength.
     indices: MonochromaticIndices,
+    /// Paths go on past their first diffuse vertex (module docs, "Interreflection").
+    interreflection: bool,
 }
 
 impl<'a> LightTracer<'a> {
@@ -168,7 +203,16 @@ impl<'a> LightTracer<'a> {
             has_sheets: scene.materials.iter().any(Material::is_filter),
             guide: EmissionGuide::uniform(),
             indices: MonochromaticIndices::new(&scene.materials, monochromatic_nm),
+            interreflection: false,
         }
+    }
+
+    /// The same tracer with its paths going on past their first diffuse vertex when `on` (the
+    /// full-transport integrator's light side: **L S⁺ D (X\* D)? E**, module docs,
+    /// "Interreflection"), or ending there when not (Whitted's light side, **L S⁺ D E**; the
+    /// default, and bit for bit what it traced before the switch existed).
+    pub fn with_interreflection(self, on: bool) -> Self {
+        Self { interreflection: on, ..self }
     }
 
     /// The same tracer starting its paths as `guide` says ([`super::guide`]).
@@ -279,6 +323,7 @@ impl<'a> LightTracer<'a> {
             flux: B::unpolarized(flux),
             depth: 0,
             through_specular: false,
+            after_diffuse: false,
         });
         // The photon on top is traced where it lies and copied off the stack only after: its
         // push wrote it field by field a moment ago, and a copy right away read those narrow
@@ -293,9 +338,17 @@ impl<'a> LightTracer<'a> {
             let surface = self.scene.surfaces[hit.prim as usize];
             match &self.scene.materials[surface.material as usize] {
                 Material::Black => {}
+                // Paths whose first interaction is diffuse (L D) are the camera side's.
+                Material::Diffuse(_) if !photon.through_specular => {}
+                Material::Diffuse(diffuse) if !self.interreflection => {
+                    self.connect(diffuse, hit, &photon, wavelengths, layout, splats, stats);
+                }
+                // With interreflection this vertex is interaction depth + 1 (module docs).
+                Material::Diffuse(_) if photon.depth >= self.max_depth => {}
                 Material::Diffuse(diffuse) => {
-                    if photon.through_specular {
-                        self.connect(diffuse, hit, &photon, wavelengths, layout, splats, stats);
+                    self.connect(diffuse, hit, &photon, wavelengths, layout, splats, stats);
+                    if photon.depth + 1 < self.max_depth {
+                        self.scatter(diffuse, hit, &photon, wavelengths, reference, scratch, rng);
                     }
                 }
                 _ if photon.depth >= self.max_depth => {}
@@ -365,8 +418,9 @@ impl<'a> LightTracer<'a> {
     }
 
     /// Pushes the continuation of `parent` leaving `hit` along `dir` with `flux` in the frame
-    /// `frame_x`, after Russian roulette when its flux is below `prune_below` of the path's
-    /// starting flux `reference`.
+    /// `frame_x`, after Russian roulette: when its flux is below `prune_below` of the path's
+    /// starting flux `reference`, or, once the path has left a diffuse surface, whenever its
+    /// flux is below `reference` (module docs, "Interreflection").
     #[allow(clippy::too_many_arguments)] // the path's state, passed flat
     fn push<B: Beam>(
         &self,
@@ -385,7 +439,13 @@ impl<'a> LightTracer<'a> {
             return;
         }
         let mut flux = flux;
-        if strength < self.prune_below {
+        if parent.after_diffuse && strength < 1.0 {
+            let survive = strength;
+            if rng.uniform() >= survive {
+                return;
+            }
+            flux = flux.scaled(SampledSpectrum::splat(1.0 / survive));
+        } else if strength < self.prune_below {
             let survive = strength / self.prune_below;
             if rng.uniform() >= survive {
                 return;
@@ -398,6 +458,7 @@ impl<'a> LightTracer<'a> {
             flux,
             depth: parent.depth + 1,
             through_specular,
+            after_diffuse: parent.after_diffuse,
         });
     }
 
@@ -574,6 +635,35 @@ impl<'a> LightTracer<'a> {
         }
     }
 
+    /// Continues a path from a diffuse surface (interreflection): a direction drawn by the
+    /// cosine density about the normal on the side the light arrived from, the flux depolarised
+    /// and multiplied by f·cos θ/pdf = ρ(λ)·[`Diffuse::shape_factor`] (the BRDF with its
+    /// directions swapped: Lambert and Oren–Nayar's qualitative model are symmetric in them).
+    #[allow(clippy::too_many_arguments)] // the path's state, passed flat
+    fn scatter<B: Beam>(
+        &self,
+        diffuse: &Diffuse,
+        hit: &Hit,
+        photon: &Photon<B>,
+        wavelengths: &SampledWavelengths,
+        reference: f32,
+        scratch: &mut Scratch<B>,
+        rng: &mut LightPathRng,
+    ) {
+        let to_light = -photon.ray.dir;
+        let (normal, shading_normal) = lit_side(hit, to_light);
+        let u = (rng.uniform(), rng.uniform());
+        let (dir, _pdf) = Diffuse::sample(shading_normal, u);
+        // A shading normal tilted off the geometric one can aim a sample into the surface.
+        if dir.dot(normal) <= 0.0 {
+            return;
+        }
+        let weight = diffuse.albedo.sample(wavelengths) * diffuse.shape_factor(shading_normal, to_light, dir);
+        let flux = B::unpolarized(photon.flux.components()[0] * weight);
+        let scattered = Photon { after_diffuse: true, ..*photon };
+        self.push(scratch, hit, dir, any_perpendicular(dir), flux, &scattered, true, reference, rng);
+    }
+
     /// Connects a path arriving at a diffuse surface to the camera and adds what the camera
     /// sees to `splats`.
     #[allow(clippy::too_many_arguments)] // the path's state, passed flat
@@ -591,11 +681,7 @@ impl<'a> LightTracer<'a> {
         let Some(seen) = camera.project(hit.point) else { return };
         // Shade the side the light arrives on; the camera must be on it too.
         let to_light = -photon.ray.dir;
-        let (normal, shading_normal) = if hit.normal.dot(to_light) >= 0.0 {
-            (hit.normal, hit.shading_normal)
-        } else {
-            (-hit.normal, -hit.shading_normal)
-        };
+        let (normal, shading_normal) = lit_side(hit, to_light);
         let to_camera = seen.to_camera;
         let cos_camera = shading_normal.dot(to_camera);
         if cos_camera <= 0.0 || normal.dot(to_camera) <= 0.0 {
@@ -656,5 +742,80 @@ impl<'a> LightTracer<'a> {
             }
         }
         splats.add(seen.pixel, &light, wavelengths, layout);
+    }
+}
+
+/// The geometric and shading normals of `hit` on the side `to_light` (the direction back along
+/// the arriving path) lies on: the side a diffuse surface reflects the light to.
+fn lit_side(hit: &Hit, to_light: Vec3) -> (Vec3, Vec3) {
+    if hit.normal.dot(to_light) >= 0.0 {
+        (hit.normal, hit.shading_normal)
+    } else {
+        (-hit.normal, -hit.shading_normal)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::polarization::Stokes;
+    use crate::sampler::LightPathSequence;
+
+    /// A diffuse floor of albedo 0.6.
+    const FLOOR: &str = r#"
+[camera]
+position = [0, 3, -5]
+look_at = [0, 0, 0]
+up = [0, 1, 0]
+fov_y_deg = 40
+width = 8
+height = 8
+
+[materials.floor]
+type = "diffuse"
+albedo = { value = 0.6 }
+
+[[shapes]]
+type = "plane"
+point = [0, 0, 0]
+normal = [0, 1, 0]
+material = "floor"
+"#;
+
+    /// A diffuse vertex depolarises: fully polarised light (S1 = 0.8·S0, S3 = 0.6·S0, so
+    /// S1² + S3² = S0²) arriving at the floor leaves it with S1–S3 zero and S0 times the albedo 0.6 (Lambert: f·cos θ/pdf = ρ), on the side it came from,
+    /// one interaction deeper. With the path's starting flux equal to what leaves, the
+    /// roulette keeps it as it is.
+    #[test]
+    fn a_diffuse_bounce_depolarises_and_weighs_by_the_albedo() {
+        let scene = crate::scene::parse(FLOOR, std::path::Path::new("floor.toml")).unwrap();
+        let tracer = LightTracer::new(&scene, &scene.settings, Some(550.0)).with_interreflection(true);
+        let wavelengths = SampledWavelengths::monochromatic(550.0);
+        let Material::Diffuse(diffuse) = &scene.materials[0] else { panic!("the floor is diffuse") };
+        let arriving = Vec3::new(0.6, -0.8, 0.0);
+        let hit = Hit { t: 1.0, point: Vec3::ZERO, normal: Vec3::Y, shading_normal: Vec3::Y, prim: 0 };
+        let s0 = SampledSpectrum::splat(2.0);
+        let photon = Photon {
+            ray: Ray::new(Vec3::new(-0.6, 0.8, 0.0), arriving),
+            frame_x: Vec3::Z,
+            flux: Stokes { s: [s0, s0 * 0.8, SampledSpectrum::zero(), s0 * 0.6] },
+            depth: 2,
+            through_specular: true,
+            after_diffuse: false,
+        };
+        let sequence = LightPathSequence::new(0);
+        for path in 0..64 {
+            let mut rng = sequence.path(path);
+            let mut scratch = Scratch::<Stokes>::default();
+            tracer.scatter(diffuse, &hit, &photon, &wavelengths, 1.2, &mut scratch, &mut rng);
+            let [left] = scratch.stack.as_slice() else {
+                panic!("one continuation, got {}", scratch.stack.len())
+            };
+            assert!((left.flux.s[0][0] - 1.2).abs() < 1e-6, "{:?}", left.flux);
+            assert!(left.flux.s[1..].iter().all(|s| s.is_zero()), "{:?}", left.flux);
+            assert!(left.ray.dir.y > 0.0 && left.ray.origin.y > 0.0);
+            assert!((left.frame_x.dot(left.ray.dir)).abs() < 1e-6);
+            assert_eq!((left.depth, left.through_specular, left.after_diffuse), (3, true, true));
+        }
     }
 }
