@@ -7,14 +7,17 @@
 //! [`crate::spectrum::cie::to_xyz`], nowhere else. [`WindowSums::film`] divides the sums by the
 //! sample count.
 
+pub mod window;
+
 use glam::Vec3;
 
 use crate::fixed::FixedSum;
 use crate::geometry::huge_pages::filled_on_huge_pages;
-use crate::integrator::Beam;
-use crate::part::PixelWindow;
+use crate::polarization::Beam;
 use crate::spectrum::color::xyz_to_linear_srgb;
 use crate::spectrum::{cie, SampledWavelengths};
+
+pub use window::PixelWindow;
 
 /// `count` wavelength bands of equal width over [`min_nm`, `max_nm`), for spectral output.
 #[derive(Debug, Clone, Copy, PartialEq)]

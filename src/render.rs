@@ -44,12 +44,14 @@ use crate::edges::{self, EdgeMap};
 use crate::film::{add_weighted_sample, Film, FilmLayout, NonFinitePixel, SpectralBands, Splats, WindowSums};
 use crate::fixed::FixedSum;
 use crate::integrator::light_tracer::Scratch;
-use crate::integrator::{guide, Beam, Fault, LightTracer, TraceStats, Whitted};
+use crate::integrator::{
+    guide, CameraIntegrator, Fault, LightTracer, PathBeam, PathTracer, TraceStats, Whitted,
+};
 use crate::memory;
 use crate::part::{PixelWindow, SampleSet};
 use crate::polarization::Stokes;
 use crate::sampler::{LightPathSequence, PixelKey, PixelRng};
-use crate::scene::{RenderSettings, Scene};
+use crate::scene::{IntegratorKind, RenderSettings, Scene};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 
 /// Stack of each render thread: Whitted recursion runs on it, one frame per bounce.
@@ -273,14 +275,28 @@ pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
         .build()
         .map_err(|source| RenderError::ThreadPool { threads: job.threads, source })?;
     let threads = pool.current_num_threads();
-    let integrator = Whitted::new(
-        scene,
-        job.settings.max_depth,
-        job.settings.prune_below,
-        job.settings.area_light_samples,
-    )
-    .with_monochromatic(job.monochromatic_nm)
-    .with_fault(job.fault);
+    let integrator = match job.settings.integrator {
+        IntegratorKind::Whitted => CameraIntegrator::Whitted(
+            Whitted::new(
+                scene,
+                job.settings.max_depth,
+                job.settings.prune_below,
+                job.settings.area_light_samples,
+            )
+            .with_monochromatic(job.monochromatic_nm)
+            .with_fault(job.fault),
+        ),
+        IntegratorKind::Path => CameraIntegrator::Path(
+            PathTracer::new(
+                scene,
+                job.settings.max_depth,
+                job.settings.area_light_samples,
+                light_paths_per_pass > 0,
+            )
+            .with_monochromatic(job.monochromatic_nm)
+            .with_fault(job.fault),
+        ),
+    };
 
     // Progress in camera samples and light paths. (A light path costs about what a camera
     // sample does.)
@@ -476,7 +492,7 @@ pub fn clock(seconds: f64) -> String {
 /// cast, and the first pixel whose samples could not be summed, if any.
 fn camera_block(
     scene: &Scene,
-    integrator: &Whitted,
+    integrator: &CameraIntegrator,
     job: &Job,
     edges: &EdgeMap,
     sums: &mut WindowSums,
@@ -513,7 +529,12 @@ fn camera_block(
 /// The edge map of the job's window ([`crate::edges`]) from the first pass's camera luminance
 /// of the window and the pixels around it: read from `first_pass` (sums holding exactly the
 /// first pass of the window) where given, rendered for the map alone elsewhere.
-fn find_edges(scene: &Scene, integrator: &Whitted, job: &Job, first_pass: Option<&WindowSums>) -> EdgeMap {
+fn find_edges(
+    scene: &Scene,
+    integrator: &CameraIntegrator,
+    job: &Job,
+    first_pass: Option<&WindowSums>,
+) -> EdgeMap {
     let (width, height) = (scene.camera.width(), scene.camera.height());
     let window = job.window.unwrap_or(PixelWindow::full(width, height));
     let area = edges::surrounding(window, width, height);
@@ -568,7 +589,7 @@ fn find_edges(scene: &Scene, integrator: &Whitted, job: &Job, first_pass: Option
 /// later pass. The rays cast, and the first pixel whose samples could not be summed, if any.
 fn complete_first_pass(
     scene: &Scene,
-    integrator: &Whitted,
+    integrator: &CameraIntegrator,
     job: &Job,
     edges: &EdgeMap,
     sums: &mut WindowSums,
@@ -611,7 +632,7 @@ fn complete_first_pass(
 #[allow(clippy::too_many_arguments)] // the pixels' place and the render's state, passed flat
 fn render_span(
     scene: &Scene,
-    integrator: &Whitted,
+    integrator: &CameraIntegrator,
     job: &Job,
     layout: &FilmLayout,
     edges: &EdgeMap,
@@ -824,7 +845,7 @@ struct LightSums<'a> {
 /// Traces the light paths `paths` (all inside one block): their splats in path order, their
 /// counters, and when `record` their record for learning a guide (only for a tracer whose
 /// paths start uniformly: the record files each path under its unwarped start).
-fn trace_block<B: Beam>(
+fn trace_block<B: crate::integrator::Beam>(
     tracer: &LightTracer,
     job: &Job,
     layout: &FilmLayout,
@@ -860,9 +881,9 @@ fn trace_block<B: Beam>(
 /// a first pass whose first sample is in already): the rays cast, and the first pixel whose
 /// samples could not be summed, if any.
 #[allow(clippy::too_many_arguments)] // the row's place and the render's state, passed flat
-fn render_row<B: Beam>(
+fn render_row<B: PathBeam>(
     scene: &Scene,
-    integrator: &Whitted,
+    integrator: &CameraIntegrator,
     job: &Job,
     layout: &FilmLayout,
     edges: &EdgeMap,

@@ -330,3 +330,28 @@ fn bad_coatings_are_rejected() {
     assert_eq!(code, 0, "{stderr}");
     assert!(produced);
 }
+
+/// An unknown integrator names the valid ones; a setting of Whitted's alone in a path scene is
+/// an error naming it (issue 39).
+#[test]
+fn unknown_integrator_and_settings_of_the_other_integrator() {
+    let with = |extra: &str| GOOD.replace("spp = 1\n", &format!("spp = 1\n{extra}\n"));
+    assert_rejected(
+        &with("integrator = \"bdpt\""),
+        &["render.integrator", "unknown integrator \"bdpt\"", "\"whitted\"", "\"path\""],
+    );
+    assert_rejected(&with("integrator = \"path\"\nprune_below = 0.01"), &["render.prune_below", "whitted"]);
+    assert_rejected(
+        &with("integrator = \"path\"\narea_light_samples = 8"),
+        &["render.area_light_samples", "whitted"],
+    );
+    let (code, stderr, produced) = render_text(GOOD, &["--integrator", "bdpt"]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(stderr.contains("--integrator") && stderr.contains("\"path\""), "{stderr}");
+    assert!(!produced);
+    // The path tracer itself renders the good scene, and so does Whitted's scene switched to it.
+    let (code, stderr, produced) = render_text(&with("integrator = \"path\""), &[]);
+    assert_eq!((code, produced), (0, true), "{stderr}");
+    let (code, stderr, produced) = render_text(GOOD, &["--integrator", "path"]);
+    assert_eq!((code, produced), (0, true), "{stderr}");
+}

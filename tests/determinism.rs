@@ -37,6 +37,38 @@ fn one_and_two_threads_give_identical_images() {
     assert_eq!(bits(&one), bits(&three));
 }
 
+/// The path tracer too: its paths are a loop, its dispersive splits queued in a fixed order, and
+/// its random numbers drawn per sample, so the thread count cannot change a bit.
+#[test]
+fn the_path_tracer_gives_identical_images_on_any_thread_count() {
+    let mut scene = small_scene();
+    scene.settings.integrator = prisma::scene::IntegratorKind::Path;
+    scene.settings.max_depth = 64;
+    scene.settings.area_light_samples = 1;
+    let job = |threads| Job { threads, ..Job::new(scene.settings.clone()) };
+    let (one, _) = render(&scene, &job(1)).unwrap();
+    let (two, _) = render(&scene, &job(2)).unwrap();
+    let (three, _) = render(&scene, &job(3)).unwrap();
+    let bits = |f: &prisma::film::Film| {
+        (0..4)
+            .flat_map(|k| {
+                f.stokes_xyz(k)
+                    .unwrap()
+                    .iter()
+                    .flat_map(|p| p.to_array().map(f32::to_bits))
+                    .collect::<Vec<_>>()
+            })
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(bits(&one), bits(&two));
+    assert_eq!(bits(&one), bits(&three));
+    // And it is another image than Whitted's (interreflection adds light).
+    let mut whitted = scene.settings.clone();
+    whitted.integrator = prisma::scene::IntegratorKind::Whitted;
+    let (w, _) = render(&scene, &Job { threads: 2, ..Job::new(whitted) }).unwrap();
+    assert_ne!(bits(&one), bits(&w));
+}
+
 #[test]
 fn different_seeds_give_different_images() {
     let scene = small_scene();

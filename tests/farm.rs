@@ -122,6 +122,27 @@ fn polarised_spectral_splits_merge_bit_identically() {
     );
 }
 
+/// The path tracer (full transport) with the light tracer beside it, polarised, through a
+/// dispersive flint sphere (lanes split into paths of their own): the same splits give the
+/// single render's bits.
+#[test]
+fn path_tracer_splits_merge_bit_identically() {
+    let scene = scene("tp6_mirror_flint.toml", 24, 16);
+    let mut job = Job::new(scene.settings.clone());
+    job.settings.integrator = prisma::scene::IntegratorKind::Path;
+    job.settings.max_depth = 64;
+    job.settings.area_light_samples = 1;
+    job.settings.caustics = true;
+    job.settings.light_paths = Some(700);
+    job.settings.spp = 4;
+    let [top, bottom] = halves(24, 16);
+    check_partitions(
+        &scene,
+        &job,
+        &[vec![("0..1", None), ("1..4", None)], vec![("0..4", top), ("0..2", bottom), ("2..4", bottom)]],
+    );
+}
+
 /// Unpolarised transport, the same way.
 #[test]
 fn unpolarised_splits_merge_bit_identically() {

@@ -101,6 +101,20 @@ pub fn run(args: &InfoArgs) -> Result<(), CliError> {
         }
     }
     say!("imageSha256: {}", hex(&hasher.finalize()));
+    // The image's mean CIE XYZ (and the Stokes components' means, when polarised): what a user
+    // compares two renders of one scene by (Whitted's share of the full light, for instance).
+    let means = |names: [&str; 3]| -> Option<[f64; 3]> {
+        let mut mean = [0.0; 3];
+        for (slot, name) in mean.iter_mut().zip(names) {
+            let values = image.channel(name)?;
+            let count = values.len().max(1) as f64;
+            *slot = values.iter().map(|&v| f64::from(v)).sum::<f64>() / count;
+        }
+        Some(mean)
+    };
+    if let Some([x, y, z]) = means(["XYZ.X", "XYZ.Y", "XYZ.Z"]) {
+        say!("meanXYZ: {x:.6} {y:.6} {z:.6}");
+    }
     Ok(())
 }
 

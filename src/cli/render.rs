@@ -199,15 +199,20 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             if settings.max_depth == settings.integrator.default_max_depth() {
                 settings.max_depth = integrator.default_max_depth();
             }
-            if integrator == IntegratorKind::Path
-                && settings.prune_below != RenderSettings::default().prune_below
-            {
-                eprintln!(
-                    "warning: {}: prune_below = {} belongs to the \"whitted\" integrator; \"path\" ignores it",
-                    args.scene.display(),
-                    settings.prune_below
-                );
+            if integrator == IntegratorKind::Path {
+                let defaults = RenderSettings::default();
+                let ignored = [
+                    ("prune_below", settings.prune_below != defaults.prune_below),
+                    ("area_light_samples", settings.area_light_samples != defaults.area_light_samples),
+                ];
+                for (field, _) in ignored.iter().filter(|(_, set)| *set) {
+                    eprintln!(
+                        "warning: {}: {field} belongs to the \"whitted\" integrator; \"path\" ignores it",
+                        args.scene.display()
+                    );
+                }
             }
+            settings.area_light_samples = integrator.default_area_light_samples();
             settings.integrator = integrator;
         }
     }

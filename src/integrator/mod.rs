@@ -7,12 +7,17 @@ pub mod beam;
 pub mod emission;
 pub mod guide;
 pub mod light_tracer;
+pub mod path;
+pub mod response;
+mod visibility;
 pub mod whitted;
 
 use glam::Vec3;
 
 pub use beam::Beam;
 pub use light_tracer::LightTracer;
+pub use path::PathTracer;
+pub use response::PathBeam;
 pub use whitted::Whitted;
 
 use crate::material::{Dielectric, Material};
@@ -20,6 +25,33 @@ use crate::optics::{fresnel_dielectric, refract, DielectricFresnel};
 use crate::polarization::mueller::JonesDiagonal;
 use crate::polarization::{Mueller, Rotation};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, N_LAMBDA};
+
+/// The camera's estimator of a render ([`crate::scene::IntegratorKind`]).
+pub enum CameraIntegrator<'a> {
+    /// Whitted's recursion.
+    Whitted(Whitted<'a>),
+    /// The path tracer.
+    Path(PathTracer<'a>),
+}
+
+impl CameraIntegrator<'_> {
+    /// Light arriving at the origin of `ray` along it, in the Stokes frame of x axis `frame_x`
+    /// ([`Whitted::radiance`], [`PathTracer::radiance`]).
+    #[inline]
+    pub fn radiance<B: PathBeam>(
+        &self,
+        ray: &crate::geometry::Ray,
+        frame_x: Vec3,
+        wavelengths: &SampledWavelengths,
+        rng: &mut crate::sampler::PixelRng,
+        stats: &mut TraceStats,
+    ) -> B {
+        match self {
+            CameraIntegrator::Whitted(whitted) => whitted.radiance(ray, frame_x, wavelengths, rng, stats),
+            CameraIntegrator::Path(path) => path.radiance(ray, frame_x, wavelengths, rng, stats),
+        }
+    }
+}
 
 /// Counters an integrator accumulates while tracing.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]

@@ -38,23 +38,18 @@
 
 use glam::Vec3;
 
+use super::visibility::{self, Sheet, SHADOW_RAY_SHORTENING};
 use super::{coated_matrices, refraction, Beam, Fault, MonochromaticIndices, TraceStats};
 use crate::geometry::{spawn_origin, Hit, Ray};
 use crate::light::Light;
-use crate::material::{Dielectric, Diffuse, Material, Polarizer, Retarder};
+use crate::material::{Dielectric, Diffuse, Material};
 use crate::optics::{reflect, DielectricFresnel};
 use crate::polarization::frame::s_axis;
 use crate::polarization::mueller::JonesDiagonal;
-use crate::polarization::{Detector, Mueller, Rotation};
+use crate::polarization::{Mueller, Rotation};
 use crate::sampler::PixelRng;
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, N_LAMBDA};
-
-/// Shadow rays stop this fraction short of the light so that an emitter's own quad never
-/// occludes it (relative, so it holds at every scene scale).
-const SHADOW_RAY_SHORTENING: f32 = 1e-4;
-/// Most polarising sheets a shadow ray crosses before it counts as blocked.
-const MAX_SHEETS_PER_SHADOW_RAY: usize = 16;
 
 /// The Whitted integrator over one scene.
 pub struct Whitted<'a> {
@@ -67,12 +62,6 @@ pub struct Whitted<'a> {
     has_sheets: bool,
     /// Each glass's index at a monochromatic render's wavelength.
     indices: MonochromaticIndices,
-}
-
-/// A sheet light passes straight through, met along a ray.
-enum Sheet<'m> {
-    Polarizer(&'m Polarizer),
-    Retarder(&'m Retarder),
 }
 
 impl<'a> Whitted<'a> {
@@ -429,35 +418,12 @@ impl<'a> Whitted<'a> {
         rng: &mut PixelRng,
         stats: &mut TraceStats,
     ) -> B {
-        let (axis, element, spectrum) = self.sheet_element(&sheet, hit.normal, -dir, wavelengths);
+        let (axis, element, spectrum) = sheet.element(self.fault, hit.normal, -dir, wavelengths);
         let mueller = Mueller::splat(element).scaled(spectrum);
         let axis = if B::POLARIZED { axis } else { frame_x };
         self.branch::<B>(hit, dir, axis, mueller.a, throughput, wavelengths, depth, rng, stats)
             .through(&mueller)
             .rotated(self.rotation(-dir, axis, frame_x))
-    }
-
-    /// A sheet for light travelling along `forward` through it: its frame's x axis, its
-    /// element (the same at every wavelength) and the transmittance spectrum that scales it.
-    fn sheet_element(
-        &self,
-        sheet: &Sheet,
-        normal: Vec3,
-        forward: Vec3,
-        wavelengths: &SampledWavelengths,
-    ) -> (Vec3, JonesDiagonal, SampledSpectrum) {
-        match sheet {
-            Sheet::Polarizer(polarizer) => (
-                polarizer.transmission_axis(normal, forward),
-                JonesDiagonal::linear_polarizer(1.0),
-                polarizer.transmittance.sample(wavelengths),
-            ),
-            Sheet::Retarder(retarder) => (
-                retarder.fast_axis_across(normal, forward),
-                self.element(JonesDiagonal::linear_retarder(retarder.retardance_rad)),
-                SampledSpectrum::splat(1.0),
-            ),
-        }
     }
 
     /// Direct light at a diffuse hit seen along `dir`.
@@ -586,45 +552,20 @@ impl<'a> Whitted<'a> {
         if cos_theta <= 0.0 || normal.dot(sample.to_light) <= 0.0 {
             return None;
         }
-        let forward = -sample.to_light;
-        let mut origin = spawn_origin(hit.point, normal, sample.to_light);
-        let mut remaining = sample.distance * (1.0 - SHADOW_RAY_SHORTENING);
-        let mut detector = Detector::RADIANCE;
-        let mut spectrum = SampledSpectrum::splat(1.0);
-        let mut detector_x: Option<Vec3> = None;
-        for _ in 0..=MAX_SHEETS_PER_SHADOW_RAY {
-            stats.rays += 1;
-            let ray = Ray::new(origin, sample.to_light);
-            let Some(blocker) = self.scene.geometry.intersect(&ray, remaining) else {
-                let weight = detector.unpolarized_response()
-                    * sample.weight
-                    * cos_theta
-                    * diffuse.shape_factor(shading_normal, sample.to_light, to_viewer);
-                return (weight > 0.0).then_some((weight, spectrum));
-            };
-            let sheet =
-                match &self.scene.materials[self.scene.surfaces[blocker.prim as usize].material as usize] {
-                    Material::Polarizer(polarizer) => Sheet::Polarizer(polarizer),
-                    Material::Retarder(retarder) => Sheet::Retarder(retarder),
-                    _ => return None,
-                };
-            let (axis, element, transmittance) =
-                self.sheet_element(&sheet, blocker.normal, forward, wavelengths);
-            if B::POLARIZED {
-                // The detector's frame so far is the previous sheet's: Stokes vectors come to it
-                // from this sheet's frame.
-                if let Some(x) = detector_x {
-                    detector = detector.rotated(self.rotation(forward, axis, x));
-                }
-                detector = detector.through(&element);
-                detector_x = Some(axis);
-            } else {
-                detector = detector.through(&JonesDiagonal::attenuator(element.a));
-            }
-            spectrum *= transmittance;
-            remaining -= blocker.t;
-            origin = spawn_origin(blocker.point, blocker.normal, sample.to_light);
-        }
-        None
+        let origin = spawn_origin(hit.point, normal, sample.to_light);
+        let (response, spectrum) = visibility::through_sheets::<B>(
+            self.scene,
+            self.fault,
+            origin,
+            sample.to_light,
+            sample.distance,
+            wavelengths,
+            stats,
+        )?;
+        let weight = response
+            * sample.weight
+            * cos_theta
+            * diffuse.shape_factor(shading_normal, sample.to_light, to_viewer);
+        (weight > 0.0).then_some((weight, spectrum))
     }
 }

@@ -17,10 +17,10 @@ pub mod file;
 pub mod header;
 pub mod merge;
 pub mod samples;
-pub mod window;
 
+/// Re-exported from the film, which owns the type: the film below the parts needs it too.
+pub use crate::film::PixelWindow;
 pub use file::{read_part, Part, PartError};
 pub use header::PartHeader;
 pub use merge::{merge, merge_files, MergeError};
 pub use samples::SampleSet;
-pub use window::PixelWindow;

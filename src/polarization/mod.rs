@@ -44,11 +44,13 @@
 //! (s, p_out) frames. An ideal mirror is a perfect electric conductor: (r_s, r_p) = (−1, +1).
 //! Diffuse surfaces depolarise; lights and the background emit unpolarised light.
 
+pub mod beam;
 pub mod detector;
 pub mod frame;
 pub mod mueller;
 pub mod stokes;
 
+pub use beam::Beam;
 pub use detector::Detector;
 pub use frame::Rotation;
 pub use mueller::Mueller;

@@ -199,14 +199,25 @@ impl Builder<'_> {
                 .map_err(|message| self.error(span.clone(), "render.integrator", message))?,
             None => defaults.integrator,
         };
-        if integrator == IntegratorKind::Path && desc.prune_below.is_some() {
-            return Err(self.error(
-                span.clone(),
-                "render.prune_below",
-                "belongs to the \"whitted\" integrator; the \"path\" integrator's Russian roulette has no \
-                 setting (remove prune_below)"
-                    .to_string(),
-            ));
+        if integrator == IntegratorKind::Path {
+            let whitted_only = [
+                ("prune_below", desc.prune_below.is_some(), "its Russian roulette has no setting"),
+                (
+                    "area_light_samples",
+                    desc.area_light_samples.is_some(),
+                    "it samples each quad light once per diffuse vertex, against its BSDF sample",
+                ),
+            ];
+            if let Some((field, _, why)) = whitted_only.into_iter().find(|(_, set, _)| *set) {
+                return Err(self.error(
+                    span.clone(),
+                    &format!("render.{field}"),
+                    format!(
+                        "belongs to the \"whitted\" integrator; the \"path\" integrator has no use for it \
+                         ({why}): remove {field}"
+                    ),
+                ));
+            }
         }
         let spp = in_range(desc.spp.unwrap_or(defaults.spp), 1, MAX_SPP, "render.spp")?;
         let max_depth = in_range(
@@ -222,7 +233,7 @@ impl Builder<'_> {
             "render.wavelengths",
         )?;
         let area_light_samples = in_range(
-            desc.area_light_samples.unwrap_or(defaults.area_light_samples),
+            desc.area_light_samples.unwrap_or(integrator.default_area_light_samples()),
             1,
             65_536,
             "render.area_light_samples",

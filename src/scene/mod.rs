@@ -55,6 +55,16 @@ impl IntegratorKind {
         })
     }
 
+    /// The default `area_light_samples`: Whitted's stratified samples per quad light at each
+    /// diffuse point; the path tracer's one sample per quad light per diffuse vertex (its only
+    /// value).
+    pub fn default_area_light_samples(self) -> u32 {
+        match self {
+            IntegratorKind::Whitted => 4,
+            IntegratorKind::Path => 1,
+        }
+    }
+
     /// The default `max_depth` of this integrator: specular bounces for Whitted; every bounce
     /// (diffuse or specular) for the path tracer, where Russian roulette ends most paths long
     /// before it.
@@ -118,7 +128,7 @@ impl Default for RenderSettings {
             max_depth: IntegratorKind::Whitted.default_max_depth(),
             wavelengths: 8,
             seed: 0,
-            area_light_samples: 4,
+            area_light_samples: IntegratorKind::Whitted.default_area_light_samples(),
             prune_below: 0.01,
             polarized: true,
             caustics: false,

@@ -6,6 +6,7 @@
 
 use std::path::Path;
 
+use super::textbook::reference_reflectances;
 use super::{CaseResult, Check, ValidateError};
 use crate::film::{Film, SpectralBands};
 use crate::integrator::Fault;
@@ -312,7 +313,7 @@ impl Context {
         // view shows a height h = 2·D·tan(fov/2) of each line (less than the slit's 0.3), which
         // receives E·w·h·T(λ) per nm, T the transmittance of the two faces for unpolarised light,
         // ½(T_s1·T_s2 + T_p1·T_p2): s and p do not mix, the faces sharing the plane of incidence
-        // (textbook Fresnel in f64, `analytic::reference_reflectances`).
+        // (textbook Fresnel in f64, `textbook::reference_reflectances`).
         let tan_half = (fov_y.to_radians() / 2.0).tan();
         let aspect = f64::from(width) / f64::from(height);
         let pixel_area =
@@ -328,8 +329,8 @@ impl Context {
             let cos_1 = -dot(beam_dir, prism.entry_normal);
             let inside = refract(beam_dir, prism.entry_normal, n).unwrap_or(beam_dir);
             let cos_2 = dot(inside, prism.exit_normal);
-            let (rs1, rp1) = super::analytic::reference_reflectances(cos_1, 1.0, n);
-            let (rs2, rp2) = super::analytic::reference_reflectances(cos_2, n, 1.0);
+            let (rs1, rp1) = reference_reflectances(cos_1, 1.0, n);
+            let (rs2, rp2) = reference_reflectances(cos_2, n, 1.0);
             let transmittance = 0.5 * ((1.0 - rs1) * (1.0 - rs2) + (1.0 - rp1) * (1.0 - rp2));
             expected_flux += 10.0 * slit_width * view_height * transmittance * f64::from(bands.width_nm());
         }

@@ -11,6 +11,7 @@ pub mod metrics;
 pub mod mitsuba;
 pub mod polarization;
 pub mod summary;
+pub mod textbook;
 
 /// The outcome of one validation case.
 #[derive(Debug, Clone)]

@@ -1,0 +1,703 @@
+//! Full light transport from the camera: unidirectional path tracing (Kajiya 1986) with
+//! next-event estimation at diffuse vertices, combined with BSDF sampling by multiple importance
+//! sampling (Veach & Guibas 1995, the power heuristic), the background as a light, and Russian
+//! roulette; spectral, dispersive and polarised as Whitted's recursion is. Mitsuba's `path` and
+//! pbrt's `path` integrators are its peers.
+//!
+//! # Which paths it counts
+//! In Heckbert's notation (L a light or the background, S a mirror or glass interaction, D a
+//! diffuse one, E the eye; polarising sheets are crossed by every ray and are no vertex), the
+//! render's estimators share path space as follows (the one table; [`crate::render`] adds the
+//! images, [`super::light_tracer`] states its side):
+//!
+//! | path class                         | counted by                                            |
+//! |------------------------------------|-------------------------------------------------------|
+//! | L E, L S⁺ E (no diffuse vertex)     | camera paths: emitter or background hit, weight 1     |
+//! | L D X\* E (light next to a D)       | camera paths: next-event estimation + BSDF hits, MIS   |
+//! | L S⁺ D X\* D E, L a light           | the light tracer, when it runs (`caustics`)            |
+//! | L S⁺ D X\* D E, L the background    | camera paths: BSDF hits, weight 1                     |
+//! | L S⁺ D X\* S⁺ E, L an area light    | camera paths: BSDF hits, weight 1                     |
+//! | L S⁺ D X\* S⁺ E, L a delta light    | **nobody**: no camera path reaches a point, spot or    |
+//! |                                    | beam light through S, no light path reaches a pinhole |
+//!
+//! (X is S or D.) The classes are disjoint and, but for the last, cover every path; without
+//! the light tracer (`caustics = false`) the camera paths count the L S⁺ D X\* D E paths of
+//! area lights too (by BSDF hits), and those of delta lights are missing.
+//!
+//! # What a path carries
+//! The camera's [`Response`]: the product of the Mueller matrices met so far, from the camera
+//! outward (`P ← P·R·M`), so that light arriving at the current vertex is recorded as `P·S`.
+//! A diffuse vertex depolarises (the first column kept). Unpolarised renders carry `P₀₀` alone.
+//! A refraction into a denser medium multiplies radiance by (n_t/n_i)² in the direction light
+//! flows, so the camera side applies 1/η² as Whitted does.
+//!
+//! # Glass
+//! At a mirror the path reflects. At glass it continues along one branch, reflected or
+//! refracted, chosen with probability proportional to each branch's radiance response summed
+//! over the live lanes (the Fresnel reflectance or transmittance, exact s/p or a coating's
+//! stack) and divided by it. At a dispersive refraction of a path still carrying several
+//! wavelengths, every live wavelength continues on its own direction, as a path of its own
+//! carrying that lane alone; none is dropped. A split path cannot split again, so a camera
+//! sample makes at most [`N_LAMBDA`] paths.
+//!
+//! # Diffuse vertices
+//! Next-event estimation toward every light (points, spots and beams once; quad lights by
+//! `area_light_samples` stratified points, as Whitted samples them; the background by one
+//! direction drawn uniformly over the sphere), then one direction drawn with the cosine density
+//! ([`Diffuse::sample`]) whose weight is f·cos θ/pdf = ρ·(Oren–Nayar's factor). Where a
+//! drawn direction meets a quad light or escapes to the background, the hit is weighted by the
+//! power heuristic against the light sampling that could have made it, with the multi-sample
+//! rule for quads (`n` light samples against one BSDF sample).
+//!
+//! # Depth and roulette
+//! `max_depth` bounces of any kind (diffuse, mirror, glass; a sheet counts as one, as in
+//! Whitted). From the third bounce on, a path whose response is below 1 at every lane
+//! survives with probability equal to its strongest lane, and is divided by it: unbiased.
+
+use glam::Vec3;
+
+use super::response::{PathBeam, Response};
+use super::visibility::{self, Sheet};
+use super::{
+    coated_matrices, element, fresnel, refraction, rotation, Fault, MonochromaticIndices, TraceStats,
+};
+use crate::geometry::{spawn_origin, Hit, Ray};
+use crate::light::{Light, LightSample};
+use crate::material::{Dielectric, Diffuse, Material};
+use crate::optics::{reflect, DielectricFresnel};
+use crate::polarization::frame::{any_perpendicular, s_axis};
+use crate::polarization::mueller::JonesDiagonal;
+use crate::polarization::Mueller;
+use crate::sampler::PixelRng;
+use crate::scene::Scene;
+use crate::spectrum::{SampledSpectrum, SampledWavelengths, N_LAMBDA};
+
+/// Bounces after which Russian roulette may end a path.
+const ROULETTE_AFTER_BOUNCES: u32 = 3;
+/// The density of the background's next-event direction, uniform over the sphere: 1/(4π) sr⁻¹.
+const BACKGROUND_PDF: f32 = 1.0 / (4.0 * std::f32::consts::PI);
+
+/// The path tracer over one scene.
+pub struct PathTracer<'a> {
+    scene: &'a Scene,
+    max_depth: u32,
+    area_light_samples: u32,
+    fault: Option<Fault>,
+    /// True when the light tracer counts the L S⁺ D X* D E paths of the scene's lights (see the
+    /// module's table): camera paths then leave them out.
+    light_tracer_counts_caustics: bool,
+    /// True when the background radiance is non-zero somewhere: it is then a light.
+    background_lights: bool,
+    /// True when some material is a polariser or retarder (shadow rays look through them).
+    has_sheets: bool,
+    /// Each glass's index at a monochromatic render's wavelength.
+    indices: MonochromaticIndices,
+}
+
+/// What the previous vertex of a path was, for weighting what the path meets next.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Previous {
+    /// The camera: the path is a camera ray.
+    Camera,
+    /// A mirror or glass interaction.
+    Specular,
+    /// A diffuse vertex whose drawn direction had this density (sr⁻¹).
+    Diffuse { pdf: f32 },
+}
+
+/// One path on its way: where it goes, what the camera makes of the light it finds, and the
+/// classes of its vertices so far.
+#[derive(Clone, Copy)]
+struct PathState<R> {
+    ray: Ray,
+    /// The x axis of the Stokes frame the response's columns are written in.
+    frame_x: Vec3,
+    response: R,
+    /// Lanes still carried (bit i: lane i).
+    live: u32,
+    /// Bounces so far.
+    depth: u32,
+    previous: Previous,
+    /// True once the path has a diffuse vertex.
+    diffuse_seen: bool,
+    /// Whether the vertex next to the eye is diffuse, once the path has one.
+    eye_vertex_diffuse: Option<bool>,
+}
+
+impl<'a> PathTracer<'a> {
+    /// A path tracer for `scene` with at most `max_depth` bounces and `area_light_samples`
+    /// samples per quad light at each diffuse vertex; `light_tracer_counts_caustics` says
+    /// whether the light tracer runs beside it (and counts its classes).
+    pub fn new(
+        scene: &'a Scene,
+        max_depth: u32,
+        area_light_samples: u32,
+        light_tracer_counts_caustics: bool,
+    ) -> Self {
+        Self {
+            scene,
+            max_depth,
+            area_light_samples: area_light_samples.max(1),
+            fault: None,
+            light_tracer_counts_caustics,
+            background_lights: scene.background.values().iter().any(|&v| v > 0.0),
+            has_sheets: scene.materials.iter().any(Material::is_filter),
+            indices: MonochromaticIndices::default(),
+        }
+    }
+
+    /// The same integrator for a render at the one wavelength `nm` (nm), if monochromatic.
+    pub fn with_monochromatic(self, nm: Option<f32>) -> Self {
+        Self { indices: MonochromaticIndices::new(&self.scene.materials, nm), ..self }
+    }
+
+    /// The same integrator with a deliberate physics error (validation only).
+    pub fn with_fault(self, fault: Option<Fault>) -> Self {
+        Self { fault, ..self }
+    }
+
+    /// Light (W·m⁻²·sr⁻¹·nm⁻¹) arriving at the origin of `ray` along it, at `wavelengths`, in
+    /// the Stokes frame of x axis `frame_x` when polarised (as [`super::Whitted::radiance`]).
+    pub fn radiance<B: PathBeam>(
+        &self,
+        ray: &Ray,
+        frame_x: Vec3,
+        wavelengths: &SampledWavelengths,
+        rng: &mut PixelRng,
+        stats: &mut TraceStats,
+    ) -> B {
+        let mask = wavelengths.active_mask();
+        let live = (0..N_LAMBDA).filter(|&i| mask[i] > 0.0).fold(0_u32, |bits, i| bits | 1 << i);
+        let first = PathState {
+            ray: *ray,
+            frame_x,
+            response: B::Response::identity(mask),
+            live,
+            depth: 0,
+            previous: Previous::Camera,
+            diffuse_seen: false,
+            eye_vertex_diffuse: None,
+        };
+        // Paths split off at a dispersive refraction wait here; one split per camera sample at
+        // most (a split path carries one lane), so N_LAMBDA places suffice.
+        let mut pending: [Option<PathState<B::Response>>; N_LAMBDA] = [None; N_LAMBDA];
+        let mut light = B::zero();
+        let mut next = Some(first);
+        while let Some(state) = next.take().or_else(|| pending.iter_mut().find_map(Option::take)) {
+            light += self.follow::<B>(state, wavelengths, rng, stats, &mut pending);
+        }
+        light
+    }
+
+    /// Follows one path to its end, returning the light it records; paths split off at a
+    /// dispersive refraction go to `pending`.
+    fn follow<B: PathBeam>(
+        &self,
+        mut state: PathState<B::Response>,
+        wavelengths: &SampledWavelengths,
+        rng: &mut PixelRng,
+        stats: &mut TraceStats,
+        pending: &mut [Option<PathState<B::Response>>; N_LAMBDA],
+    ) -> B {
+        let mut light = B::zero();
+        loop {
+            stats.rays += 1;
+            let found = self.scene.geometry.intersect(&state.ray, f32::INFINITY);
+            let Some(hit) = found.as_ref() else {
+                light += self.background::<B>(&state, wavelengths);
+                return light;
+            };
+            let surface = self.scene.surfaces[hit.prim as usize];
+            if let Some(emitter) = surface.emitter {
+                if let Light::Quad(quad) = &self.scene.lights[emitter as usize] {
+                    if quad.faces(state.ray.dir) {
+                        let weight = self.emitter_hit_weight(&state, quad, hit);
+                        if weight > 0.0 {
+                            let radiance = quad.radiance.sample(wavelengths) * weight;
+                            light += state.response.unpolarized(radiance);
+                        }
+                    }
+                }
+            }
+            let material = &self.scene.materials[surface.material as usize];
+            if matches!(material, Material::Black) || state.depth >= self.max_depth {
+                return light;
+            }
+            let continues = match material {
+                Material::Black => false,
+                Material::Diffuse(diffuse) => {
+                    light += self.next_event::<B>(&state, diffuse, hit, wavelengths, rng, stats);
+                    self.diffuse_bounce::<B>(&mut state, diffuse, hit, wavelengths, rng)
+                }
+                Material::Mirror(mirror) => {
+                    let cos_theta_i = state.ray.dir.dot(hit.shading_normal);
+                    let mueller = if B::POLARIZED {
+                        let mueller = mirror.mueller(cos_theta_i, wavelengths);
+                        if self.fault == Some(Fault::FlippedPhase) {
+                            mueller.phase_flipped()
+                        } else {
+                            mueller
+                        }
+                    } else {
+                        Mueller::attenuation(mirror.reflectance(cos_theta_i, wavelengths))
+                    };
+                    let dir = reflect(state.ray.dir, hit.shading_normal).normalize();
+                    self.turn::<B>(&mut state, hit, hit.shading_normal, &mueller, dir);
+                    state.previous = Previous::Specular;
+                    state.eye_vertex_diffuse.get_or_insert(false);
+                    true
+                }
+                Material::Dielectric(dielectric) => self.dielectric::<B>(
+                    &mut state,
+                    (surface.material, dielectric),
+                    hit,
+                    wavelengths,
+                    rng,
+                    pending,
+                ),
+                Material::Polarizer(_) | Material::Retarder(_) => {
+                    let Some(sheet) = Sheet::of(material) else { return light };
+                    let dir = state.ray.dir;
+                    let (axis, element, spectrum) = sheet.element(self.fault, hit.normal, -dir, wavelengths);
+                    let mueller = Mueller::splat(element).scaled(spectrum);
+                    if B::POLARIZED {
+                        state.response = state
+                            .response
+                            .rotated(rotation(self.fault, -dir, axis, state.frame_x))
+                            .through(&mueller);
+                        state.frame_x = axis;
+                    } else {
+                        state.response = state.response.through(&mueller);
+                    }
+                    // Straight through: not a vertex of the path's class, but a bounce of its depth.
+                    state.ray = Ray::new(spawn_origin(hit.point, hit.normal, dir), dir);
+                    true
+                }
+            };
+            if !continues {
+                return light;
+            }
+            state.depth += 1;
+            if !self.survives::<B>(&mut state, rng) {
+                return light;
+            }
+        }
+    }
+
+    /// Russian roulette from the third bounce on: a path whose response is below 1 at every
+    /// live lane survives with probability equal to its strongest lane, divided by it.
+    fn survives<B: PathBeam>(&self, state: &mut PathState<B::Response>, rng: &mut PixelRng) -> bool {
+        let strongest = state.response.strength().max_value();
+        if !(strongest > 0.0) {
+            return false;
+        }
+        if state.depth < ROULETTE_AFTER_BOUNCES || strongest >= 1.0 {
+            return true;
+        }
+        if rng.uniform() >= strongest {
+            return false;
+        }
+        state.response = state.response.scaled(SampledSpectrum::splat(1.0 / strongest));
+        true
+    }
+
+    /// The weight of a quad light's radiance met along a path (see the module's table): 1 where
+    /// only this hit makes the path, the power heuristic's where next-event estimation could
+    /// have made it too, 0 where the light tracer counts it.
+    fn emitter_hit_weight<R>(&self, state: &PathState<R>, quad: &crate::light::QuadLight, hit: &Hit) -> f32 {
+        match state.previous {
+            Previous::Camera => 1.0,
+            Previous::Specular => {
+                let light_tracer_has_it = state.diffuse_seen
+                    && state.eye_vertex_diffuse == Some(true)
+                    && self.light_tracer_counts_caustics;
+                if light_tracer_has_it && self.fault != Some(Fault::CausticsCountedTwice) {
+                    0.0
+                } else {
+                    1.0
+                }
+            }
+            Previous::Diffuse { pdf } => {
+                if self.fault == Some(Fault::MisWeightsUnnormalized) {
+                    return 1.0;
+                }
+                let cos_light = quad.emit_normal.dot(state.ray.dir).abs();
+                if !(cos_light > 0.0) {
+                    return 0.0;
+                }
+                // The density, per steradian, with which `area_light_samples` points on the quad
+                // would have drawn this direction.
+                let light_pdf =
+                    self.area_light_samples as f32 * hit.t * hit.t / (quad.quad.area() * cos_light);
+                power_heuristic(pdf, light_pdf)
+            }
+        }
+    }
+
+    /// The background's radiance met by a path escaping the scene, weighted as
+    /// [`Self::emitter_hit_weight`] weights quads (the light tracer never starts at the
+    /// background, so camera paths count all of its paths).
+    fn background<B: PathBeam>(&self, state: &PathState<B::Response>, wavelengths: &SampledWavelengths) -> B {
+        if !self.background_lights {
+            return B::zero();
+        }
+        let weight = match state.previous {
+            _ if self.fault == Some(Fault::DarkBackground) && state.diffuse_seen => 0.0,
+            Previous::Camera | Previous::Specular => 1.0,
+            Previous::Diffuse { .. } if self.fault == Some(Fault::MisWeightsUnnormalized) => 1.0,
+            Previous::Diffuse { pdf } => power_heuristic(pdf, BACKGROUND_PDF),
+        };
+        if weight <= 0.0 {
+            return B::zero();
+        }
+        state.response.unpolarized(self.scene.background.sample(wavelengths) * weight)
+    }
+
+    /// Next-event estimation at a diffuse vertex: light from every light and the background
+    /// reaching it directly (through sheets), as the camera records it.
+    fn next_event<B: PathBeam>(
+        &self,
+        state: &PathState<B::Response>,
+        diffuse: &Diffuse,
+        hit: &Hit,
+        wavelengths: &SampledWavelengths,
+        rng: &mut PixelRng,
+        stats: &mut TraceStats,
+    ) -> B {
+        let to_viewer = -state.ray.dir;
+        let (normal, shading_normal) = facing(hit, to_viewer);
+        // Σ over samples of L_e·G·shape·MIS weight; ρ/π once at the end.
+        let mut radiance = SampledSpectrum::zero();
+        let arriving = |sample: &LightSample, stats: &mut TraceStats| -> Option<(f32, SampledSpectrum)> {
+            let cos_theta = shading_normal.dot(sample.to_light);
+            if cos_theta <= 0.0 || normal.dot(sample.to_light) <= 0.0 {
+                return None;
+            }
+            let (response, spectrum) = self.visible::<B>(hit, normal, sample, wavelengths, stats)?;
+            let weight = response
+                * sample.weight
+                * cos_theta
+                * diffuse.shape_factor(shading_normal, sample.to_light, to_viewer);
+            (weight > 0.0).then_some((weight, spectrum))
+        };
+        for light in &self.scene.lights {
+            let mut sum = SampledSpectrum::zero();
+            match light {
+                Light::Point(point) => {
+                    if let Some((w, s)) = point.sample(hit.point).and_then(|sample| arriving(&sample, stats))
+                    {
+                        sum += s * w;
+                    }
+                }
+                Light::Spot(spot) => {
+                    if let Some((w, s)) = spot.sample(hit.point).and_then(|sample| arriving(&sample, stats)) {
+                        sum += s * w;
+                    }
+                }
+                Light::Beam(beam) => {
+                    if let Some((w, s)) = beam.sample(hit.point).and_then(|sample| arriving(&sample, stats)) {
+                        sum += s * w;
+                    }
+                }
+                Light::Quad(quad) => {
+                    let count = self.area_light_samples;
+                    let shift = (rng.uniform(), rng.uniform());
+                    for index in 0..count {
+                        let Some(sample) = quad.sample(hit.point, index, count, shift) else { continue };
+                        let Some((w, s)) = arriving(&sample, stats) else { continue };
+                        // `sample.weight` is 1/(n·p_light) per steradian.
+                        let mis = if self.fault == Some(Fault::MisWeightsUnnormalized) {
+                            1.0
+                        } else {
+                            power_heuristic(
+                                1.0 / sample.weight,
+                                Diffuse::pdf(shading_normal, sample.to_light),
+                            )
+                        };
+                        sum += s * (w * mis);
+                    }
+                }
+            }
+            if !sum.is_zero() {
+                radiance += light.emitted().sample(wavelengths) * sum;
+            }
+        }
+        if self.background_lights && self.fault != Some(Fault::DarkBackground) {
+            let to_light = uniform_sphere((rng.uniform(), rng.uniform()));
+            let sample = LightSample { to_light, distance: f32::INFINITY, weight: 1.0 / BACKGROUND_PDF };
+            if let Some((w, s)) = arriving(&sample, stats) {
+                let mis = if self.fault == Some(Fault::MisWeightsUnnormalized) {
+                    1.0
+                } else {
+                    power_heuristic(BACKGROUND_PDF, Diffuse::pdf(shading_normal, to_light))
+                };
+                radiance += self.scene.background.sample(wavelengths) * s * (w * mis);
+            }
+        }
+        if radiance.is_zero() {
+            return B::zero();
+        }
+        let reflected = radiance * (diffuse.albedo.sample(wavelengths) * std::f32::consts::FRAC_1_PI);
+        state.response.unpolarized(reflected)
+    }
+
+    /// Whether a light sample is visible from `hit`: the sheets' response and spectrum, or
+    /// `None` when blocked.
+    fn visible<B: PathBeam>(
+        &self,
+        hit: &Hit,
+        normal: Vec3,
+        sample: &LightSample,
+        wavelengths: &SampledWavelengths,
+        stats: &mut TraceStats,
+    ) -> Option<(f32, SampledSpectrum)> {
+        let origin = spawn_origin(hit.point, normal, sample.to_light);
+        if self.has_sheets {
+            return visibility::through_sheets::<B>(
+                self.scene,
+                self.fault,
+                origin,
+                sample.to_light,
+                sample.distance,
+                wavelengths,
+                stats,
+            );
+        }
+        stats.rays += 1;
+        let shadow = Ray::new(origin, sample.to_light);
+        let reach = sample.distance * (1.0 - visibility::SHADOW_RAY_SHORTENING);
+        (!self.scene.geometry.occluded(&shadow, reach)).then_some((1.0, SampledSpectrum::splat(1.0)))
+    }
+
+    /// A diffuse bounce: a direction drawn with the cosine density on the side the path
+    /// arrived from, the response depolarised and weighted by f·cos θ/pdf. False when the
+    /// drawn direction leaves through the geometric surface (the path ends).
+    fn diffuse_bounce<B: PathBeam>(
+        &self,
+        state: &mut PathState<B::Response>,
+        diffuse: &Diffuse,
+        hit: &Hit,
+        wavelengths: &SampledWavelengths,
+        rng: &mut PixelRng,
+    ) -> bool {
+        let to_viewer = -state.ray.dir;
+        let (normal, shading_normal) = facing(hit, to_viewer);
+        let (dir, pdf) = Diffuse::sample(shading_normal, (rng.uniform(), rng.uniform()));
+        let cos_theta = shading_normal.dot(dir);
+        if !(pdf > 0.0) || normal.dot(dir) <= 0.0 {
+            return false;
+        }
+        // f·cos θ/pdf = (ρ/π)·shape·cos θ/(cos θ/π) = ρ·shape.
+        let mut weight = diffuse.shape_factor(shading_normal, dir, to_viewer);
+        if self.fault == Some(Fault::NoDiffuseCosine) {
+            weight /= cos_theta;
+        }
+        state.response = state.response.depolarized(diffuse.albedo.sample(wavelengths) * weight);
+        state.frame_x = any_perpendicular(dir);
+        state.ray = Ray::new(spawn_origin(hit.point, normal, dir), dir);
+        state.previous = Previous::Diffuse { pdf };
+        state.diffuse_seen = true;
+        state.eye_vertex_diffuse.get_or_insert(true);
+        true
+    }
+
+    /// A specular turn at `hit`: the response through `mueller`, written in the s frame of the
+    /// incidence on `normal`, and the path on along `dir`.
+    fn turn<B: PathBeam>(
+        &self,
+        state: &mut PathState<B::Response>,
+        hit: &Hit,
+        normal: Vec3,
+        mueller: &Mueller,
+        dir: Vec3,
+    ) {
+        let incoming = state.ray.dir;
+        if B::POLARIZED {
+            let s = s_axis(normal, -incoming, state.frame_x);
+            state.response =
+                state.response.rotated(rotation(self.fault, -incoming, s, state.frame_x)).through(mueller);
+            state.frame_x = s;
+        } else {
+            state.response = state.response.through(mueller);
+        }
+        state.ray = Ray::new(spawn_origin(hit.point, hit.normal, dir), dir);
+    }
+
+    /// Glass: Beer–Lambert over the segment inside, then one branch, reflected or refracted,
+    /// chosen by the branches' responses; at a dispersive refraction of a path of several
+    /// lanes, one path per lane (all but the first to `pending`). False when the path ends.
+    fn dielectric<B: PathBeam>(
+        &self,
+        state: &mut PathState<B::Response>,
+        (material, dielectric): (u32, &Dielectric),
+        hit: &Hit,
+        wavelengths: &SampledWavelengths,
+        rng: &mut PixelRng,
+        pending: &mut [Option<PathState<B::Response>>; N_LAMBDA],
+    ) -> bool {
+        let dir = state.ray.dir;
+        if let (Some(sigma), true) = (&dielectric.absorption, dir.dot(hit.normal) > 0.0) {
+            state.response = state.response.scaled((sigma.sample(wavelengths) * -hit.t).exp());
+        }
+        let normal = hit.shading_normal;
+        let cos_theta_i = -dir.dot(normal);
+        let live = state.live;
+        let lanes = (0..N_LAMBDA).filter(move |&i| live & (1 << i) != 0);
+        let first_live = lanes.clone().next().unwrap_or(0);
+        let split = dielectric.ior.is_dispersive() && state.live.count_ones() > 1;
+        let fresnel_at = |lane: usize| {
+            fresnel(
+                self.fault,
+                cos_theta_i,
+                self.indices.ior(material, dielectric, wavelengths.lambda_nm(lane)),
+            )
+        };
+        let fresnel: [DielectricFresnel; N_LAMBDA] =
+            if split { std::array::from_fn(fresnel_at) } else { [fresnel_at(first_live); N_LAMBDA] };
+        let coated = dielectric.is_coated().then(|| {
+            coated_matrices::<B>(self.fault, dielectric, cos_theta_i, wavelengths, state.live, |lane| {
+                self.indices.ior(material, dielectric, wavelengths.lambda_nm(lane))
+            })
+        });
+        let reflection = match &coated {
+            Some((reflection, _)) => *reflection,
+            None if B::POLARIZED => Mueller::from_lanes(
+                &fresnel.map(|f| element(self.fault, JonesDiagonal::dielectric_reflection(cos_theta_i, &f))),
+            ),
+            None => Mueller::attenuation(SampledSpectrum { values: fresnel.map(|f| f.reflectance) }),
+        };
+        // The transmitted flux per lane (the camera side's 1/η² applied below), zero under
+        // total internal reflection.
+        let transmissions: [Option<(Vec3, Mueller)>; N_LAMBDA] = std::array::from_fn(|lane| {
+            let f = &fresnel[lane];
+            let (refracted, flux) = refraction::<B>(dir, normal, f)?;
+            let flux = match &coated {
+                Some((_, coated_flux)) => *coated_flux,
+                None => flux,
+            };
+            Some((refracted, flux.scaled(SampledSpectrum::splat(1.0 / (f.eta_it * f.eta_it)))))
+        });
+        // Branch choice: each branch's flux response summed over the live lanes (the camera
+        // side's 1/η² left out, so that lossless glass chooses by R and T).
+        let strength = state.response.strength();
+        let (mut reflected_sum, mut transmitted_sum) = (0.0f32, 0.0f32);
+        for lane in lanes.clone() {
+            let w = strength[lane].abs();
+            reflected_sum += w * reflection.a[lane];
+            if let Some((_, m)) = &transmissions[lane] {
+                let eta = fresnel[lane].eta_it;
+                transmitted_sum += w * m.a[lane] * eta * eta;
+            }
+        }
+        let total = reflected_sum + transmitted_sum;
+        if !(total > 0.0) {
+            return false;
+        }
+        let p_reflect = reflected_sum / total;
+        state.previous = Previous::Specular;
+        state.eye_vertex_diffuse.get_or_insert(false);
+        if rng.uniform() < p_reflect {
+            let reflection = reflection.scaled(SampledSpectrum::splat(1.0 / p_reflect));
+            let reflected = reflect(dir, normal).normalize();
+            self.turn::<B>(state, hit, normal, &reflection, reflected);
+            return true;
+        }
+        let p_transmit = 1.0 - p_reflect;
+        if !split {
+            let Some((refracted, transmission)) = transmissions[first_live] else { return false };
+            let transmission = transmission.scaled(SampledSpectrum::splat(1.0 / p_transmit));
+            self.turn::<B>(state, hit, normal, &transmission, refracted);
+            return true;
+        }
+        // Every live lane on its own direction: this path continues with the first, the others
+        // wait in `pending` (the same state, one lane each).
+        let before = *state;
+        let mut continued = false;
+        let mut slot = 0;
+        for lane in lanes {
+            let Some((refracted, transmission)) = transmissions[lane] else { continue };
+            let mut lane_state = before;
+            lane_state.response = lane_state.response.only_lane(lane);
+            lane_state.live = 1 << lane;
+            let transmission = transmission.scaled(SampledSpectrum::splat(1.0 / p_transmit));
+            self.turn::<B>(&mut lane_state, hit, normal, &transmission, refracted);
+            if !continued {
+                *state = lane_state;
+                continued = true;
+            } else {
+                while slot < N_LAMBDA && pending[slot].is_some() {
+                    slot += 1;
+                }
+                if let Some(place) = pending.get_mut(slot) {
+                    // A split path's depth and roulette continue where the parent's stood.
+                    lane_state.depth += 1;
+                    *place = Some(lane_state);
+                }
+            }
+        }
+        continued
+    }
+}
+
+/// The geometric and shading normals on the side of `to_viewer`.
+#[inline]
+fn facing(hit: &Hit, to_viewer: Vec3) -> (Vec3, Vec3) {
+    if hit.normal.dot(to_viewer) >= 0.0 {
+        (hit.normal, hit.shading_normal)
+    } else {
+        (-hit.normal, -hit.shading_normal)
+    }
+}
+
+/// Veach's power heuristic (β = 2) for a sample drawn with density `chosen` against another
+/// technique's density `other` at the same direction.
+#[inline]
+fn power_heuristic(chosen: f32, other: f32) -> f32 {
+    let (a, b) = (chosen * chosen, other * other);
+    if !(a > 0.0) {
+        return 0.0;
+    }
+    if !b.is_finite() {
+        return 0.0;
+    }
+    a / (a + b)
+}
+
+/// A direction drawn uniformly over the unit sphere from two uniform numbers in [0, 1).
+#[inline]
+fn uniform_sphere((u1, u2): (f32, f32)) -> Vec3 {
+    let z = 1.0 - 2.0 * u1;
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    let phi = std::f32::consts::TAU * u2;
+    Vec3::new(r * phi.cos(), r * phi.sin(), z)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn power_heuristic_weights_add_to_one() {
+        for (a, b) in [(0.3f32, 0.7f32), (1.0, 1e-3), (5.0, 5.0)] {
+            let sum = power_heuristic(a, b) + power_heuristic(b, a);
+            assert!((sum - 1.0).abs() < 1e-6, "{a} {b}: {sum}");
+        }
+        assert_eq!(power_heuristic(0.0, 1.0), 0.0);
+        assert_eq!(power_heuristic(1.0, f32::INFINITY), 0.0);
+    }
+
+    #[test]
+    fn uniform_sphere_directions_are_unit_and_cover_both_poles() {
+        let mut z_sum = 0.0f64;
+        let n = 64;
+        for i in 0..n {
+            for j in 0..n {
+                let d = uniform_sphere(((i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32));
+                assert!((d.length() - 1.0).abs() < 1e-5);
+                z_sum += f64::from(d.z);
+            }
+        }
+        // Uniform in z: the mean is 0.
+        assert!((z_sum / f64::from(n * n)).abs() < 1e-4);
+    }
+}
