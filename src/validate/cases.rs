@@ -193,7 +193,11 @@ pub fn load(validation_dir: &Path) -> Result<Vec<Case>, ValidateError> {
                 )));
             }
         }
-        all.extend(cases.into_iter().map(|case| Case { kind: kind.unwrap_or_else(|| transport_kind(&case)), ..case }));
+        all.extend(
+            cases
+                .into_iter()
+                .map(|case| Case { kind: kind.unwrap_or_else(|| transport_kind(&case)), ..case }),
+        );
     }
     Ok(all)
 }
@@ -231,13 +235,13 @@ fn parse_file(text: &str, path: &Path) -> Result<Vec<Case>, ValidateError> {
         match case.mitsuba_integrator.as_deref() {
             None | Some("path") => {}
             Some("ptracer") if case.mask.is_none() => {
-                return bad(
-                    "a `ptracer` reference renders glass and mirrors black: compare under \
-                     mask = \"diffuse_seen_directly\"",
-                )
+                return bad("a `ptracer` reference renders glass and mirrors black: compare under \
+                     mask = \"diffuse_seen_directly\"")
             }
             Some("ptracer") => {}
-            Some(other) => return bad(&format!("unknown mitsuba_integrator {other:?}; valid: \"path\", \"ptracer\"")),
+            Some(other) => {
+                return bad(&format!("unknown mitsuba_integrator {other:?}; valid: \"path\", \"ptracer\""))
+            }
         }
         if let Err(message) = case.prisma_integrator() {
             return bad(&format!("integrator: {message}"));
@@ -286,7 +290,8 @@ why = "test"
 
     #[test]
     fn bad_integrator_fields_are_refused() {
-        let unknown = TRANSPORT_CASE.replace("mitsuba_integrator = \"ptracer\"", "mitsuba_integrator = \"bdpt\"");
+        let unknown =
+            TRANSPORT_CASE.replace("mitsuba_integrator = \"ptracer\"", "mitsuba_integrator = \"bdpt\"");
         assert!(parse(&unknown).unwrap_err().contains("unknown mitsuba_integrator"));
         let unmasked = TRANSPORT_CASE.replace("mask = \"diffuse_seen_directly\"\n", "");
         assert!(parse(&unmasked).unwrap_err().contains("mask"));

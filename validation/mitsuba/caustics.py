@@ -54,7 +54,7 @@ import numpy as np
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 import translate  # noqa: E402
-from render_references import git_commit, sha256, y_normalisation_fix  # noqa: E402
+from render_references import git_commit, prisma_identity, sha256, y_normalisation_fix  # noqa: E402
 
 VALIDATION = pathlib.Path(__file__).resolve().parents[1]
 SEEDS = (1, 2)
@@ -286,6 +286,7 @@ def render_case(case, settings, out_dir, prisma, quick, command, case_file=CASES
         },
         "renders": renders,
         "prisma_commit": git_commit(),
+        "prisma_binary": prisma_identity(prisma),
         "command": command,
         "environment": {"DRJIT_LIBLLVM_PATH": os.environ.get("DRJIT_LIBLLVM_PATH"),
                         "platform": platform.platform(), "cpu_count": os.cpu_count()},

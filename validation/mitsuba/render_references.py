@@ -171,7 +171,8 @@ def git_commit():
     try:
         head = subprocess.run(["git", "rev-parse", "HEAD"], cwd=VALIDATION, check=True, capture_output=True,
                               text=True).stdout.strip()
-        dirty = subprocess.run(["git", "status", "--porcelain", "--", "src", "Cargo.lock"], cwd=VALIDATION,
+        # Pathspecs from the repository's root (":/"): git reads plain ones relative to cwd.
+        dirty = subprocess.run(["git", "status", "--porcelain", "--", ":/src", ":/Cargo.lock"], cwd=VALIDATION,
                                check=True, capture_output=True, text=True).stdout.strip()
         return head + ("+dirty-src" if dirty else "")
     except (OSError, subprocess.CalledProcessError):
