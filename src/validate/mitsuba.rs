@@ -109,6 +109,7 @@ pub fn run_case(
     let mut settings = scene.settings.clone();
     settings.spp = options.spp.or(case.spp).unwrap_or(cases::DEFAULT_SPP);
     settings.polarized = case.polarized;
+    case.apply_to(&mut settings).map_err(input)?;
 
     let mut renders = Vec::with_capacity(2);
     for seed in [1u64, 2] {

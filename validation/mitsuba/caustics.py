@@ -1,7 +1,16 @@
 #!/usr/bin/env python3
-"""Renders the Mitsuba 3 references of validation/caustic_cases.toml: Mitsuba's particle tracer
-`ptracer` on prisma's caustic scenes, with provenance (as render_references.py does for
-cases.toml, whose settings and checks it reuses by import).
+"""Renders the Mitsuba 3 references of validation/caustic_cases.toml and of the `ptracer` cases of
+validation/transport_cases.toml: Mitsuba's particle tracer `ptracer` on prisma's caustic scenes,
+with provenance (as render_references.py does for cases.toml, whose settings and checks it
+reuses by import).
+
+Full transport (transport_cases.toml, mitsuba_integrator = "ptracer", scenes whose integrator is
+"path"): diffuse materials stay translate.py's twosided diffuse (light continues past them, so
+ptracer sums every path of light), max_depth = prisma's + 1 and Russian roulette as Mitsuba's
+default (rr_depth 5, unbiased); the film is the hdrfilm (Mitsuba 3.9.1's ptracer does not splat
+correctly into a specfilm: a test render came out about 60× too dark), with the luminance
+normalisation fix of render_references.py. Mitsuba's `stokes` wraps only sampling integrators,
+so these references are unpolarised S0.
 
 Mitsuba's side: `ptracer` (max_depth = -1: unlimited, Russian roulette from depth 64, unbiased),
 unpolarised variants, as the cases are (caustic_cases.toml says why): `llvm_ad_mono` with every
@@ -45,11 +54,13 @@ import numpy as np
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 import translate  # noqa: E402
-from render_references import git_commit, sha256, y_normalisation_fix  # noqa: E402
+from render_references import git_commit, prisma_identity, sha256, y_normalisation_fix  # noqa: E402
 
 VALIDATION = pathlib.Path(__file__).resolve().parents[1]
 SEEDS = (1, 2)
 CASES_FILE = "caustic_cases.toml"
+# transport_cases.toml also lists `path` cases, which render_references.py renders.
+TRANSPORT_CASES_FILE = "transport_cases.toml"
 
 # Light paths: ptracer traces spp × width × height paths per render: 4096 spp × 12 288 pixels =
 # 50 M paths per reference, 30–50× what prisma traces per render in CI, in 64 passes of 64 spp
@@ -65,7 +76,17 @@ MITSUBA_SETTINGS = {
     **{f"caustic_prism_{nm}": dict(variant="llvm_ad_mono", spp_per_pass=64, passes=64)
        for nm in (450, 550, 650)},
     "caustic_sphere_spectral": dict(variant="llvm_ad_spectral", spp_per_pass=64, passes=64),
+    # Full transport in a closed room: 512 spp × 15 000 pixels = 7.7 M light paths per reference
+    # (about a minute each on this machine's two cores alone), in 32 passes.
+    "transport_room_point": dict(variant="llvm_ad_spectral", spp_per_pass=16, passes=32, full_transport=True),
+    "transport_room_spot": dict(variant="llvm_ad_spectral", spp_per_pass=16, passes=32, full_transport=True),
 }
+
+
+def full_transport_ptracer(prisma_max_depth):
+    """ptracer for prisma's integrator "path": max_depth counts vertices (prisma's bounces + 1),
+    Mitsuba's default Russian roulette (rr_depth 5, unbiased)."""
+    return {"type": "ptracer", "max_depth": prisma_max_depth + 1, "hide_emitters": False}
 
 BLACK = {"type": "diffuse", "reflectance": {"type": "uniform", "value": 0.0}}
 
@@ -112,11 +133,16 @@ def register_receiver():
 
 class CausticTranslator(translate.Translator):
     """translate.Translator with prisma's beam and spot lights, and diffuse materials as
-    `receiver` BSDFs (constant albedo only)."""
+    `receiver` BSDFs (constant albedo only), or with receiver = False as translate.py's twosided
+    diffuse (full transport: light continues past diffuse vertices)."""
+
+    def __init__(self, scene, wavelength_nm=None, receiver=True, **kwargs):
+        super().__init__(scene, wavelength_nm, **kwargs)
+        self.receiver = receiver
 
     def bsdf(self, name):
         desc = self.scene.desc["materials"][name]
-        if desc["type"] != "diffuse":
+        if desc["type"] != "diffuse" or not self.receiver:
             return super().bsdf(name)
         values = np.asarray(self.scene.spectra["materials"][name]["albedo"], dtype=np.float64)
         if self.mono:
@@ -127,7 +153,7 @@ class CausticTranslator(translate.Translator):
             raise translate.TranslationError(f"material {name!r}: the receiver takes a constant albedo")
         return {"type": "receiver", "reflectance": albedo}
 
-    def scene_dict(self, integrator, spp, pixel_format=None, sampler="independent"):
+    def scene_dict(self, integrator, spp, pixel_format=None, sampler="independent", film="hdrfilm"):
         scene = self.scene
         lights = scene.desc.get("lights", [])
         extra = [(i, light) for i, light in enumerate(lights) if light["type"] in ("beam", "spot")]
@@ -138,7 +164,7 @@ class CausticTranslator(translate.Translator):
                                                      if l["type"] not in ("beam", "spot")])
         self.scene = plain
         try:
-            out = super().scene_dict(integrator, spp, pixel_format, sampler)
+            out = super().scene_dict(integrator, spp, pixel_format, sampler, film)
         finally:
             self.scene = scene
         for i, light in extra:
@@ -168,7 +194,7 @@ class CausticTranslator(translate.Translator):
         return out
 
 
-def render_case(case, settings, out_dir, prisma, quick, command):
+def render_case(case, settings, out_dir, prisma, quick, command, case_file=CASES_FILE):
     name = case["name"]
     mi.set_variant(settings["variant"])
     register_receiver()
@@ -177,16 +203,23 @@ def render_case(case, settings, out_dir, prisma, quick, command):
     wavelength = case.get("wavelength_nm")
     export_dir = pathlib.Path(tempfile.mkdtemp(prefix=f"prisma_export_{name}_"))
     scene = translate.PrismaScene.load(VALIDATION / case["scene"], export_dir, prisma)
-    translator = CausticTranslator(scene, wavelength)
-    mitsuba_scene = mi.load_dict(translator.scene_dict(PTRACER, spp_per_pass))
+    full = settings.get("full_transport", False)
+    if full:
+        if scene.integrator != "path" or case.get("integrator", scene.integrator) != "path":
+            raise SystemExit(f"{name}: a full-transport reference is for prisma's integrator \"path\"")
+        integrator = full_transport_ptracer(scene.max_depth)
+    else:
+        integrator = PTRACER
+    translator = CausticTranslator(scene, wavelength, receiver=not full)
+    mitsuba_scene = mi.load_dict(translator.scene_dict(integrator, spp_per_pass))
     fix, y_integral = y_normalisation_fix() if mi.is_spectral else (1.0, None)
     renders = []
     for seed in SEEDS:
-        start = time.perf_counter()
+        start, cpu_start = time.perf_counter(), time.process_time()
         mean, variance, channels = translate.render(mitsuba_scene, spp_per_pass, seed, passes)
-        seconds = time.perf_counter() - start
+        seconds, cpu_seconds = time.perf_counter() - start, time.process_time() - cpu_start
         if channels != case["channels"]:
-            raise SystemExit(f"{name}: Mitsuba wrote channels {channels}, {CASES_FILE} compares {case['channels']}")
+            raise SystemExit(f"{name}: Mitsuba wrote channels {channels}, {case_file} compares {case['channels']}")
         mean *= fix
         # The variance of the mean from the passes, in the units of the reference squared.
         variance *= fix * fix
@@ -202,24 +235,32 @@ def render_case(case, settings, out_dir, prisma, quick, command):
             "seed": seed,
             "pass_seeds": [translate.pass_seed(seed, k) for k in range(passes)],
             "wall_time_s": round(seconds, 2),
+            "cpu_time_s": round(cpu_seconds, 2),
             "channel_means": {c: float(mean[..., i].mean()) for i, c in enumerate(channels)},
+            "channel_mean_stderr": {c: float(np.sqrt(variance[..., i].sum()) / variance[..., i].size)
+                                    for i, c in enumerate(channels)},
         })
         print(f"{name} seed {seed}: {spp_per_pass * passes} spp in {seconds:.1f} s, "
               f"means {[round(float(mean[..., i].mean()), 5) for i in range(len(channels))]}", flush=True)
     width, height = int(scene.camera["width"]), int(scene.camera["height"])
     provenance = {
         "case": name,
+        "case_file": f"validation/{case_file}",
         "why": case["why"],
         "scene": case["scene"],
         "scene_sha256": sha256(VALIDATION / case["scene"]),
         "wavelength_nm": wavelength,
+        "prisma_integrator": scene.integrator,
+        "prisma_max_depth": scene.max_depth,
         "mitsuba_version": mi.__version__,
         "drjit_version": dr.__version__,
         "numpy_version": np.__version__,
         "python_version": platform.python_version(),
         "variant": settings["variant"],
-        "integrator": PTRACER,
-        "integrator_source": "Mitsuba's built-in particle tracer (ptracer)",
+        "integrator": integrator,
+        "integrator_source": "Mitsuba's built-in particle tracer (ptracer)"
+                             + (", full transport: twosided diffuse BSDFs, default Russian roulette" if full
+                                else ", diffuse surfaces as `receiver` BSDFs (paths end there)"),
         "sampler": "independent",
         "spp": spp_per_pass * passes,
         "spp_per_pass": spp_per_pass,
@@ -245,6 +286,7 @@ def render_case(case, settings, out_dir, prisma, quick, command):
         },
         "renders": renders,
         "prisma_commit": git_commit(),
+        "prisma_binary": prisma_identity(prisma),
         "command": command,
         "environment": {"DRJIT_LIBLLVM_PATH": os.environ.get("DRJIT_LIBLLVM_PATH"),
                         "platform": platform.platform(), "cpu_count": os.cpu_count()},
@@ -264,26 +306,29 @@ def main():
     parser.add_argument("--prisma", help="prisma binary (default: $PRISMA or target/release/prisma)")
     args = parser.parse_args()
     with open(VALIDATION / CASES_FILE, "rb") as f:
-        cases = tomllib.load(f)["case"]
-    names = [c["name"] for c in cases]
+        cases = [(c, CASES_FILE) for c in tomllib.load(f)["case"]]
+    with open(VALIDATION / TRANSPORT_CASES_FILE, "rb") as f:
+        cases += [(c, TRANSPORT_CASES_FILE) for c in tomllib.load(f)["case"]
+                  if c.get("mitsuba_integrator") == "ptracer"]
+    names = [c["name"] for c, _ in cases]
     if set(names) != set(MITSUBA_SETTINGS):
         raise SystemExit(f"{CASES_FILE} and MITSUBA_SETTINGS disagree: {sorted(set(names) ^ set(MITSUBA_SETTINGS))}")
     if args.cases:
         unknown = set(args.cases) - set(names)
         if unknown:
             raise SystemExit(f"unknown cases: {sorted(unknown)}")
-        cases = [c for c in cases if c["name"] in args.cases]
+        cases = [(c, f) for c, f in cases if c["name"] in args.cases]
     out_dir = args.out or (pathlib.Path(tempfile.mkdtemp(prefix="caustics_quick_")) if args.quick
                            else VALIDATION.parent / "out" / "references")
     out_dir.mkdir(parents=True, exist_ok=True)
     prisma = args.prisma or translate.find_prisma()
     command = " ".join(shlex.quote(a) for a in [pathlib.Path(sys.executable).name,
                                                  os.path.relpath(sys.argv[0], VALIDATION.parent), *sys.argv[1:]])
-    for case in cases:
+    for case, case_file in cases:
         expected = [f"references/{case['name']}_seed{s}.exr" for s in SEEDS]
         if case["references"] != expected:
-            raise SystemExit(f"{case['name']}: {CASES_FILE} references should be {expected}")
-        render_case(case, MITSUBA_SETTINGS[case["name"]], out_dir, prisma, args.quick, command)
+            raise SystemExit(f"{case['name']}: {case_file} references should be {expected}")
+        render_case(case, MITSUBA_SETTINGS[case["name"]], out_dir, prisma, args.quick, command, case_file)
     print(f"references in {out_dir}")
 
 

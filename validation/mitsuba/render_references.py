@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Renders the Mitsuba 3 reference images of validation/cases.toml, of
-validation/polarised_cases.toml and of validation/colour_cases.toml, with
-provenance.
+validation/polarised_cases.toml, of validation/colour_cases.toml and of the `path` cases of
+validation/transport_cases.toml (its `ptracer` cases are caustics.py's), with provenance.
 
 For every case: two references at independent seeds (references/<case>_seed1.exr, _seed2.exr,
 float32, the channels Mitsuba's film writes, which include those the case compares), the
@@ -55,7 +55,8 @@ import translate  # noqa: E402
 
 VALIDATION = pathlib.Path(__file__).resolve().parents[1]
 CASE_FILES = [VALIDATION / "cases.toml", VALIDATION / "polarised_cases.toml",
-              VALIDATION / "colour_cases.toml", VALIDATION / "mitsuba" / "mitsuba_pipeline_cases.toml"]
+              VALIDATION / "colour_cases.toml", VALIDATION / "mitsuba" / "mitsuba_pipeline_cases.toml",
+              VALIDATION / "transport_cases.toml"]
 SEEDS = (1, 2)
 
 # Infinite planes: the references of cases.toml were rendered with 1000-unit rectangles; the
@@ -122,14 +123,31 @@ MITSUBA_SETTINGS.update({
     "tp6_quad_prisma_cmf": dict(_PRISMA_CMF, integrator="whitted"),
     "color_emitters_prisma_cmf": dict(_PRISMA_CMF, integrator="path"),
 })
+# Full transport (transport_cases.toml, mitsuba_integrator = "path"): integrator "full" is
+# Mitsuba's path tracer on scenes with diffuse surfaces (translate.full_transport_integrator:
+# max_depth = prisma's + 1, Mitsuba's default Russian roulette), for scenes whose own integrator
+# is "path". Sample counts were cut to what a machine of two cores shared with compiles could give
+# within about 50 minutes of wall time (the first reference, 4096 spp, took 11 minutes there
+# instead of the 3.5 it takes alone): 4096 spp for the spectral TP6, 512 for the mono TP6 (32
+# passes, 31 degrees of freedom of the variance), 2048 for the Stokes room (64 passes).
+_FULL = dict(integrator="full", plane_half_size=PLANE_HALF_SIZE_POLARISED)
+MITSUBA_SETTINGS.update({
+    "tp6_quad_path_prisma_cmf": dict(_FULL, variant="llvm_ad_spectral", film="prisma_xyz", spp_per_pass=64,
+                                     passes=64),
+    **{f"tp6_quad_path_{nm}": dict(_FULL, variant="llvm_ad_mono", spp_per_pass=16, passes=32)
+       for nm in (450, 550, 650)},
+    "stokes_room_path": dict(_FULL, variant="llvm_ad_mono_polarized", stokes=True, spp_per_pass=32, passes=64),
+})
 
 
 def load_cases():
-    """[(case, the file it comes from)] of every case file."""
+    """[(case, the file it comes from)] of every case file (without the `ptracer` cases of
+    transport_cases.toml, which caustics.py renders)."""
     cases = []
     for path in CASE_FILES:
         with open(path, "rb") as f:
-            cases += [(case, path) for case in tomllib.load(f)["case"]]
+            cases += [(case, path) for case in tomllib.load(f)["case"]
+                      if case.get("mitsuba_integrator", "path") != "ptracer"]
     return cases
 
 
@@ -153,7 +171,8 @@ def git_commit():
     try:
         head = subprocess.run(["git", "rev-parse", "HEAD"], cwd=VALIDATION, check=True, capture_output=True,
                               text=True).stdout.strip()
-        dirty = subprocess.run(["git", "status", "--porcelain", "--", "src", "Cargo.lock"], cwd=VALIDATION,
+        # Pathspecs from the repository's root (":/"): git reads plain ones relative to cwd.
+        dirty = subprocess.run(["git", "status", "--porcelain", "--", ":/src", ":/Cargo.lock"], cwd=VALIDATION,
                                check=True, capture_output=True, text=True).stdout.strip()
         return head + ("+dirty-src" if dirty else "")
     except (OSError, subprocess.CalledProcessError):
@@ -203,7 +222,11 @@ def render_case(case, case_file, settings, out_dir, prisma, quick, command, vari
     scene = translate.PrismaScene.load(VALIDATION / case["scene"], export_dir, prisma)
     translator = translate.Translator(scene, wavelength, settings.get("mitsuba_rgb_emitters", False),
                                       settings["plane_half_size"])
-    if settings["integrator"] == "path":
+    if settings["integrator"] == "full":
+        if scene.integrator != "path" or case.get("integrator", scene.integrator) != "path":
+            raise SystemExit(f"{name}: a full-transport reference is for prisma's integrator \"path\"")
+        integrator = translate.full_transport_integrator(scene.max_depth)
+    elif settings["integrator"] == "path":
         if scene.has_diffuse():
             raise SystemExit(f"{name}: Mitsuba's path tracer is Whitted only without diffuse surfaces")
         integrator = translate.path_integrator(scene.max_depth)
@@ -268,6 +291,8 @@ def render_case(case, case_file, settings, out_dir, prisma, quick, command, vari
         "scene": case["scene"],
         "scene_sha256": sha256(VALIDATION / case["scene"]),
         "wavelength_nm": wavelength,
+        "prisma_integrator": scene.integrator,
+        "prisma_max_depth": scene.max_depth,
         "mitsuba_version": mi.__version__,
         "drjit_version": dr.__version__,
         "numpy_version": np.__version__,
@@ -276,6 +301,10 @@ def render_case(case, case_file, settings, out_dir, prisma, quick, command, vari
         "polarized": bool(mi.is_polarized),
         "integrator": integrator,
         "integrator_source": ("validation/mitsuba/whitted.py" if settings["integrator"] == "whitted"
+                              else "Mitsuba's built-in path tracer in full transport (diffuse surfaces, "
+                                   "Russian roulette from Mitsuba's default rr_depth 5), for prisma's "
+                                   "integrator \"path\" with max_depth " + str(scene.max_depth)
+                              if settings["integrator"] == "full"
                               else "Mitsuba's built-in path tracer")
                              + (", inside Mitsuba's stokes integrator" if settings.get("stokes") else ""),
         "sampler": "independent",
@@ -320,6 +349,9 @@ def render_case(case, case_file, settings, out_dir, prisma, quick, command, vari
                       ("none: a mono render involves no colour-matching functions" if mi.is_monochromatic else
              "none: prisma's own colour-matching table and normalisation (specfilm)"),
         },
+        "background": ("a constant emitter of the scene's background radiance (prisma export's table): "
+                       "a light in full transport" if any(v != 0.0 for v in scene.spectra["background"])
+                       else "none (black)"),
         "renders": renders,
         "prisma_commit": git_commit(),
         "prisma_binary": prisma_identity(prisma),

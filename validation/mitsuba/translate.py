@@ -54,8 +54,13 @@ The mapping, prisma → Mitsuba 3.9.1:
   background        constant emitter (left out when the background is black)
   [render] polarized   true (prisma's default) or false: which Mitsuba variants compare with it
                     (`polarized_variant`); the translation itself follows the current variant
-  max_depth         prisma counts specular bounces, Mitsuba's `path` counts path vertices:
-                    Mitsuba max_depth = prisma max_depth + 1 (see `path_integrator`)
+  max_depth         prisma counts bounces (Whitted: specular ones; "path": every kind), Mitsuba's
+                    `path` and `ptracer` count path vertices: Mitsuba max_depth = prisma max_depth
+                    + 1 (see `path_integrator`, `full_transport_integrator`)
+  [render] integrator = "path"   Mitsuba's `path` with diffuse surfaces and its default Russian
+                    roulette (`full_transport_integrator`); the background is a `constant` emitter
+                    in both integrators, which lights diffuse surfaces in full transport as prisma's
+                    "path" does (prisma's Whitted counts it only along specular paths)
 
 Spectra become `regular` spectra over 360–830 nm in spectral variants, and the value at the
 chosen wavelength in mono variants. Optionally, emitters whose file gives an `rgb` colour can be
@@ -325,9 +330,15 @@ class PrismaScene:
         return self.desc.get("render", {})
 
     @property
+    def integrator(self):
+        """prisma's `[render] integrator`: "whitted" (the default) or "path" (full transport)."""
+        return str(self.render_settings.get("integrator", "whitted"))
+
+    @property
     def max_depth(self):
-        """prisma's maximum number of specular bounces (scene default 16)."""
-        return int(self.render_settings.get("max_depth", 16))
+        """prisma's `max_depth`: specular bounces for Whitted (default 16), bounces of every kind
+        for "path" (default 256)."""
+        return int(self.render_settings.get("max_depth", 256 if self.integrator == "path" else 16))
 
     @property
     def polarized(self):
@@ -709,6 +720,13 @@ def path_integrator(prisma_max_depth):
     max_depth counts vertices (prisma's bounces + 1) and Russian roulette never starts."""
     return {"type": "path", "max_depth": prisma_max_depth + 1, "rr_depth": prisma_max_depth + 2,
             "hide_emitters": False}
+
+
+def full_transport_integrator(prisma_max_depth):
+    """Mitsuba's path tracer as prisma's full-transport integrator (`integrator = "path"`):
+    max_depth counts vertices, so prisma's bounces + 1; Russian roulette as Mitsuba's default
+    (rr_depth 5, unbiased); emitters seen directly."""
+    return {"type": "path", "max_depth": prisma_max_depth + 1, "hide_emitters": False}
 
 
 def stokes_integrator(integrator):
