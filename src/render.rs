@@ -256,7 +256,11 @@ pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
         0 => std::thread::available_parallelism().map_or(1, usize::from),
         n => n,
     };
-    let tracer = LightTracer::new(scene, &job.settings, job.monochromatic_nm).with_fault(job.fault);
+    // In full transport the light tracer follows its paths past the first diffuse vertex
+    // (ARCHITECTURE.md, "Path space").
+    let tracer = LightTracer::new(scene, &job.settings, job.monochromatic_nm)
+        .with_fault(job.fault)
+        .with_interreflection(job.settings.integrator == IntegratorKind::Path);
     let light_paths_per_pass = if job.settings.caustics && tracer.why_none().is_none() {
         job.settings.light_paths.unwrap_or(u64::from(width) * u64::from(height))
     } else {
