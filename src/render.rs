@@ -260,7 +260,9 @@ pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
     // (ARCHITECTURE.md, "Path space").
     let tracer = LightTracer::new(scene, &job.settings, job.monochromatic_nm)
         .with_fault(job.fault)
-        .with_interreflection(job.settings.integrator == IntegratorKind::Path);
+        .with_interreflection(
+            job.settings.integrator == IntegratorKind::Path && job.fault != Some(Fault::CausticsCountedNever),
+        );
     let light_paths_per_pass = if job.settings.caustics && tracer.why_none().is_none() {
         job.settings.light_paths.unwrap_or(u64::from(width) * u64::from(height))
     } else {

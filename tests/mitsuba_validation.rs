@@ -1,4 +1,4 @@
-//! Every case of validation/cases.toml and caustic_cases.toml, at the references' resolution
+//! Every case of validation/cases.toml, caustic_cases.toml and transport_cases.toml, at the references' resolution
 //! and a modest sample count, agrees with its committed Mitsuba 3 references; and a deliberately
 //! wrong renderer (Schlick's approximation, indices 1 % too high, a light tracer without the
 //! receiver's cosine) fails the cases that can see the error.
@@ -67,6 +67,17 @@ fn wrong_renderers_fail() {
         // obliquely, and the prism's band of light moves with the index.
         ("caustic_sphere_550", Fault::NoReceiverCosine),
         ("caustic_prism_550", Fault::IorScale(1.01)),
+        // Full transport (transport_cases.toml): the path tracer's MIS and diffuse bounces,
+        // the sky as a light, and the partition of path space with the light tracer: a path
+        // counted twice (the camera side keeps the light tracer's paths too) or never (the light
+        // tracer stops at its first diffuse vertex).
+        ("tp6_quad_path_550", Fault::MisWeightsUnnormalized),
+        ("tp6_quad_path_prisma_cmf", Fault::NoDiffuseCosine),
+        ("stokes_room_path", Fault::DarkBackground),
+        ("stokes_room_path", Fault::TransposedRotation),
+        ("stokes_room_path_caustics", Fault::CausticsCountedTwice),
+        ("stokes_room_path_caustics", Fault::CausticsCountedNever),
+        ("transport_room_spot", Fault::CausticsCountedNever),
     ] {
         let (result, _) = run_case(&validation_dir(), find(name), &options(Some(fault))).unwrap();
         report(&format!("{name} with {fault:?}"), &result);

@@ -48,6 +48,8 @@ pub enum FaultArg {
     DarkBackground,
     /// The path tracer counts the light tracer's paths too (caustic paths counted twice).
     CausticsTwice,
+    /// The light tracer stops at its first diffuse vertex in full transport (paths counted never).
+    CausticsNever,
 }
 
 /// Arguments of `prisma validate`.
@@ -94,6 +96,7 @@ pub fn run(args: &ValidateArgs) -> Result<(), CliError> {
         FaultArg::NoDiffuseCosine => Fault::NoDiffuseCosine,
         FaultArg::DarkBackground => Fault::DarkBackground,
         FaultArg::CausticsTwice => Fault::CausticsCountedTwice,
+        FaultArg::CausticsNever => Fault::CausticsCountedNever,
     });
     let threads = args.threads.unwrap_or(0) as usize;
     if !args.dir.join("cases.toml").is_file() {

@@ -99,6 +99,10 @@ pub enum Fault {
     /// The path tracer also counts the paths the light tracer counts (L S⁺ D … D E, from the
     /// lights the light tracer emits from): those paths are counted twice.
     CausticsCountedTwice,
+    /// In full transport the light tracer stops at its first diffuse vertex, as beside Whitted,
+    /// while the path tracer still leaves the light tracer's paths to it: the paths L S⁺ D X⁺ D E
+    /// (light through glass, then on from a diffuse surface) are counted by nobody.
+    CausticsCountedNever,
 }
 
 /// Each dielectric's index of refraction at the one wavelength of a monochromatic render, by
