@@ -203,6 +203,27 @@ fn an_interrupted_caustic_render_resumes_into_the_uninterrupted_image() {
     assert!(sums == whole.sums);
 }
 
+/// The same for full transport: the path tracer with the light tracer past the first diffuse
+/// vertex, stopped after its first block and resumed, gives the uninterrupted sums.
+#[test]
+fn an_interrupted_path_render_resumes_into_the_uninterrupted_image() {
+    let scene = scene("tp6_mirror_glass_caustics.toml", 24, 16);
+    let mut job = Job::new(scene.settings.clone());
+    job.settings.integrator = prisma::scene::IntegratorKind::Path;
+    job.settings.max_depth = 64;
+    job.settings.area_light_samples = 1;
+    job.settings.spp = 4;
+    job.settings.light_paths = Some(3000);
+    let stopped = render_sums(&scene, &Job { stop_after_blocks: Some(1), ..job.clone() }).unwrap();
+    assert!(stopped.interrupted);
+    let rest = stopped.samples.missing_below(4);
+    let resumed = render_sums(&scene, &Job { samples: Some(rest), ..job.clone() }).unwrap();
+    let whole = render_sums(&scene, &job).unwrap();
+    let mut sums = stopped.sums.clone();
+    sums.add(&resumed.sums).unwrap();
+    assert!(sums == whole.sums);
+}
+
 /// A render stopped after its first sample block holds the first samples exactly; rendering
 /// the rest and merging gives the uninterrupted render.
 #[test]
