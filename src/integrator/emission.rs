@@ -18,6 +18,11 @@
 //! Lights are chosen in proportion to the power they can send toward the mirrors and glass
 //! (their spectra integrated over 360–830 nm), so that no light that can make a caustic is
 //! left out and none that cannot is drawn.
+//!
+//! For validation, [`Emission::everything`] starts paths over the **whole** emission of every
+//! light instead (a light tracer that counts every path it can, beside no camera side): lights
+//! in proportion to their whole power, quads cosine-weighted over their hemisphere, points
+//! uniformly over the sphere, spots over their cutoff cone.
 
 use glam::Vec3;
 
@@ -163,6 +168,11 @@ pub struct Emitted {
     pub light: usize,
     /// The flux weight (m²·sr for a quad, m² for a beam, sr for point and spot lights).
     pub weight: f32,
+    /// For a quad light, the weight of the point alone, 1/(probability of the light × density
+    /// of the point on it) (m²): what multiplies the radiance the camera sees there when the
+    /// light is connected to the camera (L E). `None` for the other lights, which no pinhole
+    /// can see.
+    pub area_weight: Option<f32>,
 }
 
 /// The lights as sources of light paths.
@@ -231,8 +241,43 @@ impl Emission {
         Self { sources, targets }
     }
 
+    /// The sources of light paths over the whole emission of every light of `scene` (module
+    /// docs): every light with some power, chosen in proportion to it, each drawing from its own
+    /// distribution (no aiming at mirrors and glass).
+    pub fn everything(scene: &Scene) -> Self {
+        let mut sources = Vec::new();
+        for (index, light) in scene.lights.iter().enumerate() {
+            let (power, directions) = match light {
+                Light::Point(point) => (point.intensity.integral_nm() * f64::from(FOUR_PI), Directions::Own),
+                Light::Spot(spot) => (
+                    spot.intensity.integral_nm() * f64::from(spot.solid_angle_weight()),
+                    Directions::Cones {
+                        cones: vec![Cone::new(spot.axis, spot.cos_cutoff()).framed()],
+                        total: TAU * (1.0 - spot.cos_cutoff()),
+                    },
+                ),
+                Light::Quad(quad) => (
+                    quad.radiance.integral_nm() * f64::from(quad.quad.area() * std::f32::consts::PI),
+                    Directions::Own,
+                ),
+                Light::Beam(beam) => {
+                    (beam.irradiance.integral_nm() * f64::from(beam.quad.area()), Directions::Own)
+                }
+            };
+            if power > 0.0 && power.is_finite() {
+                sources.push(Source { light: index, probability: power as f32, directions });
+            }
+        }
+        let total: f32 = sources.iter().map(|s| s.probability).sum();
+        for source in &mut sources {
+            source.probability /= total;
+        }
+        // No targets: quads draw cosine-weighted directions over their hemisphere.
+        Self { sources, targets: None }
+    }
+
     /// True when no light can send light to a mirror or glass object (no light, no mirror or
-    /// glass, or none within reach of a spot).
+    /// glass, or none within reach of a spot); for [`Self::everything`], when no light emits.
     pub fn is_empty(&self) -> bool {
         self.sources.is_empty()
     }
@@ -261,6 +306,7 @@ impl Emission {
             }
         }
         let light = &scene.lights[chosen.light];
+        let mut area_weight = None;
         let (origin, normal, dir, weight) = match light {
             Light::Point(point) => {
                 let (dir, pdf) = directions(&chosen.directions, next, u_dir);
@@ -277,6 +323,7 @@ impl Emission {
                 let origin = quad.quad.point_at(u_x, u_y);
                 let (dir, pdf) = self.quad_direction(quad, origin, next, u_dir, cones);
                 let cos_theta = dir.dot(quad.emit_normal);
+                area_weight = Some(quad.quad.area() / chosen.probability);
                 (origin, Some(quad.emit_normal), dir, quad.quad.area() * cos_theta.max(0.0) / pdf)
             }
             Light::Beam(beam) => {
@@ -292,7 +339,7 @@ impl Emission {
             Some(normal) => spawn_origin(origin, normal, dir),
             None => origin,
         };
-        Some(Emitted { ray: Ray::new(origin, dir), light: chosen.light, weight })
+        Some(Emitted { ray: Ray::new(origin, dir), light: chosen.light, weight, area_weight })
     }
 
     /// A direction from `origin` on a quad light and its density: toward the mirrors and glass
@@ -498,6 +545,72 @@ mod tests {
         }
         let mean = sum / f64::from(side * side);
         assert!((mean - expected).abs() < 1e-3 * expected, "mean weight {mean} sr, expected {expected}");
+    }
+
+    /// Over the whole emission ([`Emission::everything`]), a quad light's paths leave its
+    /// emitting side cosine-weighted, beside a mirror that [`Emission::new`] would aim them at:
+    /// the mean flux weight is the quad's étendue π·A (1.5 × 2 m²: 9.42 m²·sr) divided by the
+    /// probability of the quad (¾ of the power, beside a second quad of the same radiance and a
+    /// third of its area), the point weight A over that probability exactly, and the mean cosine toward
+    /// the emitting normal 2/3 (cosine-weighted). 2¹⁶ stratified directions; a uniform hemisphere
+    /// (mean cosine ½) or a missing cosine fails.
+    #[test]
+    fn everything_emits_over_the_whole_hemisphere() {
+        let text = r#"
+            [camera]
+            position = [0, 0, -5]
+            look_at = [0, 0, 0]
+            fov_y_deg = 40
+            width = 8
+            height = 8
+            [materials.mirror]
+            type = "mirror"
+            [[shapes]]
+            type = "sphere"
+            center = [0, -2, 0]
+            radius = 0.1
+            material = "mirror"
+            [[lights]]
+            type = "quad"
+            corner = [0, 3, 0]
+            edge1 = [1.5, 0, 0]
+            edge2 = [0, 0, 2]
+            radiance = 1
+            emit = "edge1_cross_edge2"
+            [[lights]]
+            type = "quad"
+            corner = [5, 3, 0]
+            edge1 = [1, 0, 0]
+            edge2 = [0, 0, 1]
+            radiance = 1
+            emit = "edge1_cross_edge2"
+        "#;
+        let scene = crate::scene::parse(text, std::path::Path::new("quads.toml")).expect("scene");
+        let emission = Emission::everything(&scene);
+        let (area, other) = (3.0f64, 1.0f64);
+        let probability = area / (area + other);
+        let side = 256;
+        let (mut weight, mut cosine, mut count) = (0.0f64, 0.0f64, 0u32);
+        for i in 0..side {
+            for j in 0..side {
+                let u = ((i as f32 + 0.5) / side as f32, (j as f32 + 0.5) / side as f32);
+                // The first quad (pick 0.1 < ¾), the middle of it.
+                let mut numbers = [0.1f32, 0.5, 0.5].into_iter();
+                let emitted = emission
+                    .sample(&scene, u, &mut || numbers.next().expect("three numbers"), &mut Vec::new())
+                    .expect("every direction of the hemisphere carries light");
+                assert_eq!(emitted.light, 0);
+                let area_weight = f64::from(emitted.area_weight.expect("a quad"));
+                assert!((area_weight - area / probability).abs() < 1e-5 * area_weight, "{area_weight}");
+                weight += f64::from(emitted.weight);
+                cosine += f64::from(-emitted.ray.dir.y);
+                count += 1;
+            }
+        }
+        let expected = std::f64::consts::PI * area / probability;
+        let (weight, cosine) = (weight / f64::from(count), cosine / f64::from(count));
+        assert!((weight - expected).abs() < 1e-3 * expected, "mean weight {weight}, expected {expected}");
+        assert!((cosine - 2.0 / 3.0).abs() < 1e-3, "mean cosine {cosine}");
     }
 
     /// Every direction that meets a target sphere lies in its cone.

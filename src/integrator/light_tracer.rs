@@ -29,6 +29,20 @@
 //! caustic of a point, spot or beam light seen in a mirror or through glass (**L S⁺ D X\* S⁺
 //! E**: the connection to the camera cannot pass a specular surface).
 //!
+//! # Alone, for validation
+//! [`LightTracer::counting_everything`] makes the light tracer an estimator of the whole image
+//! on its own, never beside a camera side (the adjoint check: a render from the light side must
+//! agree with one from the camera side, Veach 1997 ch. 3 and 4; polarised, as Mojzík et al.,
+//! EGSR 2016): paths start over the whole emission of every light
+//! ([`super::emission::Emission::everything`]: quads cosine-weighted over their hemisphere), are
+//! connected to the camera at **every** diffuse vertex, the first included (L D E, L X\* D E),
+//! and, on a quad light, at their start (L E: the light seen directly, L·cos θ_y over the density
+//! of the point, times the camera's sensitivity). It counts every path but those that reach the
+//! pinhole through a mirror or glass (L X\* S⁺ E), and wants a black background (no light to
+//! it). So on the pixels whose camera ray first meets a diffuse surface or a light it must agree
+//! with the path tracer alone (`caustics = false`), Stokes vectors included
+//! (tests/adjoint_transport.rs). Off, the default, nothing it traces changes.
+//!
 //! # What a light path carries
 //! Flux: a light path starts with the light's power per unit wavelength divided by the
 //! densities that chose it ([`super::emission`]), at the wavelengths of a camera sample (the
@@ -110,8 +124,10 @@ use super::guide::EmissionGuide;
 use super::{
     coated_matrices, element, fresnel, refraction, rotation, Beam, Fault, MonochromaticIndices, TraceStats,
 };
+use crate::camera::FilmPoint;
 use crate::film::{FilmLayout, Splats};
 use crate::geometry::{spawn_origin, Hit, Ray};
+use crate::light::Light;
 use crate::material::{Dielectric, Diffuse, Material};
 use crate::optics::{reflect, DielectricFresnel};
 use crate::polarization::frame::{any_perpendicular, s_axis};
@@ -186,6 +202,9 @@ pub struct LightTracer<'a> {
     indices: MonochromaticIndices,
     /// Paths go on past their first diffuse vertex (module docs, "Interreflection").
     interreflection: bool,
+    /// Validation: paths start over the whole emission and count every path they can make,
+    /// alone (module docs, "Alone, for validation").
+    everything: bool,
 }
 
 impl<'a> LightTracer<'a> {
@@ -204,6 +223,24 @@ impl<'a> LightTracer<'a> {
             guide: EmissionGuide::uniform(),
             indices: MonochromaticIndices::new(&scene.materials, monochromatic_nm),
             interreflection: false,
+            everything: false,
+        }
+    }
+
+    /// The same tracer counting, alone, every path a light path can make (validation only;
+    /// module docs, "Alone, for validation"): paths start over the whole emission of every
+    /// light ([`Emission::everything`]), uniformly (no guide), and are connected to the camera
+    /// at every diffuse vertex, the first included, and at their start on a quad light (the
+    /// light seen directly). Its image is then the whole image on the pixels whose camera ray
+    /// first meets a diffuse surface or a light; it cannot run beside a camera side, which would
+    /// count the same paths again.
+    pub fn counting_everything(self) -> Self {
+        Self {
+            emission: Emission::everything(self.scene),
+            guide: EmissionGuide::uniform(),
+            interreflection: true,
+            everything: true,
+            ..self
         }
     }
 
@@ -230,6 +267,8 @@ impl<'a> LightTracer<'a> {
     pub fn why_none(&self) -> Option<&'static str> {
         if self.scene.lights.is_empty() {
             Some("the scene has no light")
+        } else if self.everything {
+            self.emission.is_empty().then_some("no light emits")
         } else if !self
             .scene
             .materials
@@ -316,6 +355,22 @@ impl<'a> LightTracer<'a> {
         if reference.is_nan() || reference <= 0.0 {
             return;
         }
+        if self.everything {
+            if let Some(area_weight) = emitted.area_weight {
+                let radiance = self.scene.lights[emitted.light].emitted().sample(wavelengths)
+                    * wavelengths.active_mask()
+                    * (area_weight * weight);
+                self.connect_light::<B>(
+                    emitted.light,
+                    &emitted.ray,
+                    radiance,
+                    wavelengths,
+                    layout,
+                    splats,
+                    stats,
+                );
+            }
+        }
         scratch.stack.clear();
         scratch.stack.push(Photon {
             ray: emitted.ray,
@@ -338,8 +393,9 @@ impl<'a> LightTracer<'a> {
             let surface = self.scene.surfaces[hit.prim as usize];
             match &self.scene.materials[surface.material as usize] {
                 Material::Black => {}
-                // Paths whose first interaction is diffuse (L D) are the camera side's.
-                Material::Diffuse(_) if !photon.through_specular => {}
+                // Paths whose first interaction is diffuse (L D) are the camera side's, unless
+                // this tracer counts everything.
+                Material::Diffuse(_) if !photon.through_specular && !self.everything => {}
                 Material::Diffuse(diffuse) if !self.interreflection => {
                     self.connect(diffuse, hit, &photon, wavelengths, layout, splats, stats);
                 }
@@ -691,8 +747,54 @@ impl<'a> LightTracer<'a> {
         let brdf = diffuse.albedo.sample(wavelengths)
             * (std::f32::consts::FRAC_1_PI * diffuse.shape_factor(shading_normal, to_light, to_camera));
         let radiance = photon.flux.components()[0] * brdf * (cosine * seen.sensitivity);
-        let mut light = B::unpolarized(radiance);
         let origin = spawn_origin(hit.point, normal, to_camera);
+        self.send_to_camera::<B>(origin, &seen, radiance, wavelengths, layout, splats, stats);
+    }
+
+    /// Connects the start of a light path on a quad light (its ray `leaving`, from just off the
+    /// emitting side) to the camera (L E, [`Self::counting_everything`] only): the pixel it
+    /// lands in gains L·cos θ_y/(p(y)·p(light)) times the camera's sensitivity, with
+    /// `radiance_weight` = L/(p(y)·p(light)) (W·sr⁻¹·m⁻²·nm⁻¹ times m²). The emission is
+    /// unpolarised.
+    #[allow(clippy::too_many_arguments)] // the connection's state, passed flat
+    fn connect_light<B: Beam>(
+        &self,
+        light: usize,
+        leaving: &Ray,
+        radiance_weight: SampledSpectrum,
+        wavelengths: &SampledWavelengths,
+        layout: &FilmLayout,
+        splats: &mut Splats,
+        stats: &mut TraceStats,
+    ) {
+        let Light::Quad(quad) = &self.scene.lights[light] else { return };
+        let Some(seen) = self.scene.camera.project(leaving.origin) else { return };
+        // One-sided: the camera must be on the emitting side.
+        let cos_light = quad.emit_normal.dot(seen.to_camera);
+        if cos_light <= 0.0 {
+            return;
+        }
+        let radiance = radiance_weight * (cos_light * seen.sensitivity);
+        self.send_to_camera::<B>(leaving.origin, &seen, radiance, wavelengths, layout, splats, stats);
+    }
+
+    /// Sends the unpolarised `radiance` (what the pixel `seen` gains, before occlusion) from
+    /// `origin` to the camera: nothing when something blocks the way, filtered by the
+    /// polarising sheets crossed, and added to `splats`.
+    #[allow(clippy::too_many_arguments)] // the connection's state, passed flat
+    fn send_to_camera<B: Beam>(
+        &self,
+        origin: Vec3,
+        seen: &FilmPoint,
+        radiance: SampledSpectrum,
+        wavelengths: &SampledWavelengths,
+        layout: &FilmLayout,
+        splats: &mut Splats,
+        stats: &mut TraceStats,
+    ) {
+        let camera = &self.scene.camera;
+        let to_camera = seen.to_camera;
+        let mut light = B::unpolarized(radiance);
         let remaining = seen.distance * (1.0 - CONNECTION_SHORTENING);
         if !self.has_sheets {
             stats.rays += 1;

@@ -1,0 +1,406 @@
+//! The light side and the camera side agree (issue 39; the adjoint check of polarised
+//! bidirectional transport, Mojzík, Skřivan, Wilkie & Křivánek, EGSR 2016): on a room lit by
+//! one-sided quad lights alone (the background black), with diffuse walls, a glass sphere and a
+//! mirror sphere, the path tracer alone (`integrator = "path"`, `caustics = false`: the camera
+//! side counts every path it can) and the light tracer alone
+//! ([`LightTracer::counting_everything`]: light paths over the whole emission, connected to the
+//! camera at every diffuse vertex and at the light) estimate the same Stokes image on every pixel
+//! whose camera ray first meets a diffuse surface or a light. There each counts every path of
+//! light (L E, L X\* D E): the two are adjoint estimators of one integral, written with no code in
+//! common but the materials' Mueller matrices and the geometry. Pixels that see a sphere are
+//! masked: the light tracer cannot finish a path through a mirror or glass into a pinhole
+//! (L … S⁺ E).
+//!
+//! Compared with `prisma validate`'s metrics ([`prisma::validate::metrics`]): each side renders
+//! twice with independent seeds; per pixel and channel (S0–S3), z of the difference of the means
+//! against the pooled variance of the pairs, the excess of |z| > 5 outliers over the null
+//! comparison, and the z of the image-wide means, with `prisma validate`'s default thresholds
+//! (validation/README.md, "Metrics and thresholds", and "Full transport: the light side against
+//! the camera side" for what this test measured).
+
+use prisma::film::{Film, FilmLayout, Splats, WindowSums};
+use prisma::geometry::{spawn_origin, Ray};
+use prisma::integrator::light_tracer::Scratch;
+use prisma::integrator::{Fault, LightTracer, TraceStats};
+use prisma::material::Material;
+use prisma::part::PixelWindow;
+use prisma::polarization::Stokes;
+use prisma::render::{render, Job};
+use prisma::sampler::LightPathSequence;
+use prisma::scene::{IntegratorKind, Scene};
+use prisma::validate::cases::{DEFAULT_MAX_MEAN_Z, DEFAULT_MAX_OUTLIER_FRACTION};
+use prisma::validate::metrics::{compare_with, Comparison, Options, Planes};
+
+/// A room (floor, ceiling, back and side walls; open behind the camera, the background black)
+/// lit by a 1.5 × 1.5 quad light under the ceiling, emitting down, and a 2 × 1.2 one just in
+/// front of the back wall, facing the camera (which sees it directly); a glass sphere (n = 1.5)
+/// and a mirror sphere on the floor. Monochromatic (550 nm) and polarised.
+const ROOM: &str = r#"
+background = 0.0
+
+[camera]
+position = [0, 2.0, -3.5]
+look_at = [0, 1.5, 3]
+up = [0, 1, 0]
+fov_y_deg = 50
+width = 48
+height = 32
+
+[render]
+integrator = "path"
+caustics = false
+max_depth = 64
+wavelengths = 1
+polarized = true
+
+[materials.floor]
+type = "diffuse"
+albedo = 0.6
+
+[materials.back]
+type = "diffuse"
+albedo = 0.5
+
+[materials.left]
+type = "diffuse"
+albedo = 0.7
+
+[materials.right]
+type = "diffuse"
+albedo = 0.4
+
+[materials.glass]
+type = "dielectric"
+ior = 1.5
+
+[materials.mirror]
+type = "mirror"
+
+[[shapes]] # floor, y = 0
+type = "quad"
+corner = [-3, 0, -4]
+edge1 = [6, 0, 0]
+edge2 = [0, 0, 10]
+material = "floor"
+
+[[shapes]] # ceiling, y = 3.5
+type = "quad"
+corner = [-3, 3.5, -4]
+edge1 = [6, 0, 0]
+edge2 = [0, 0, 10]
+material = "back"
+
+[[shapes]] # back wall, z = 6
+type = "quad"
+corner = [-3, 0, 6]
+edge1 = [6, 0, 0]
+edge2 = [0, 3.5, 0]
+material = "back"
+
+[[shapes]] # left wall, x = 3
+type = "quad"
+corner = [3, 0, -4]
+edge1 = [0, 0, 10]
+edge2 = [0, 3.5, 0]
+material = "left"
+
+[[shapes]] # right wall, x = -3
+type = "quad"
+corner = [-3, 0, -4]
+edge1 = [0, 0, 10]
+edge2 = [0, 3.5, 0]
+material = "right"
+
+[[shapes]]
+type = "sphere"
+center = [1.1, 0.8, 2.5]
+radius = 0.8
+material = "glass"
+
+[[shapes]]
+type = "sphere"
+center = [-1.1, 0.8, 3.0]
+radius = 0.8
+material = "mirror"
+
+[[lights]] # edge1 × edge2 = -y: emits down
+type = "quad"
+corner = [-0.75, 3.2, 2.9]
+edge1 = [1.5, 0, 0]
+edge2 = [0, 0, 1.5]
+radiance = 8.0
+emit = "edge1_cross_edge2"
+
+[[lights]] # on the back wall, facing the camera (edge2 × edge1 = -z)
+type = "quad"
+corner = [-1, 1.8, 5.95]
+edge1 = [2, 0, 0]
+edge2 = [0, 1.2, 0]
+radiance = 3.0
+emit = "edge2_cross_edge1"
+"#;
+
+/// Added to [`ROOM`]: a polariser (axis at 30° to x) and, on the camera's side of it, a
+/// quarter-wave plate (fast axis at −20°), hanging 0.15 and 0.2 in front of the back light, over
+/// its left part and the back wall's left side: the diffuse wall and
+/// the light seen through them are polarised (linear at 30°, then elliptical: S1–S3 all
+/// non-zero), and light from both lights crosses them on its way into the room.
+const SHEETS: &str = r#"
+[materials.polarizer]
+type = "polarizer"
+axis = [0.866025, 0.5, 0]
+
+[materials.quarter_wave]
+type = "retarder"
+fast_axis = [0.939693, -0.342020, 0]
+retardance_deg = 90
+
+[[shapes]]
+type = "quad"
+corner = [0.2, 1.7, 5.8]
+edge1 = [2.6, 0, 0]
+edge2 = [0, 1.6, 0]
+material = "polarizer"
+
+[[shapes]]
+type = "quad"
+corner = [0.2, 1.7, 5.75]
+edge1 = [2.6, 0, 0]
+edge2 = [0, 1.6, 0]
+material = "quarter_wave"
+"#;
+
+/// The wavelength of every render, nm.
+const LAMBDA_NM: f32 = 550.0;
+/// Camera samples per pixel of each path-tracer render.
+const SPP: u32 = 512;
+/// Light paths of each light-tracer render, per pixel of the image.
+const LIGHT_PATHS_PER_PIXEL: u64 = 1024;
+/// Threads for each render (the test's budget is two cores).
+const THREADS: usize = 2;
+
+/// [`ROOM`], with [`SHEETS`] when `sheets`.
+fn room(sheets: bool) -> Scene {
+    let text = if sheets { format!("{ROOM}{SHEETS}") } else { ROOM.to_owned() };
+    prisma::scene::parse(&text, std::path::Path::new("adjoint_room.toml")).expect("the room parses")
+}
+
+/// S0–S3 of `film` (monochromatic: the radiance, W·m⁻²·sr⁻¹·nm⁻¹), as planes.
+fn stokes_planes(film: &Film) -> Planes {
+    let data = (0..4)
+        .map(|k| film.stokes_srgb(k).expect("a polarised film").iter().map(|v| f64::from(v.y)).collect())
+        .collect();
+    Planes { width: film.width() as usize, height: film.height() as usize, data }
+}
+
+/// The path tracer alone, seed `seed`, `spp` samples per pixel, with `fault`.
+fn camera_side(scene: &Scene, seed: u64, spp: u32, fault: Option<Fault>) -> Planes {
+    let mut settings = scene.settings.clone();
+    assert_eq!(settings.integrator, IntegratorKind::Path);
+    assert!(!settings.caustics && settings.polarized);
+    settings.spp = spp;
+    settings.seed = seed;
+    let job = Job { threads: THREADS, monochromatic_nm: Some(LAMBDA_NM), fault, ..Job::new(settings) };
+    let (film, _) = render(scene, &job).expect("the path tracer renders");
+    stokes_planes(&film)
+}
+
+/// The light tracer alone ([`LightTracer::counting_everything`]), `fault` on the light side
+/// only, seed `seed`: `paths` light paths split over [`THREADS`] threads, their splats summed
+/// exactly (the image does not depend on the split), divided by `paths`.
+fn light_side(scene: &Scene, seed: u64, paths: u64, fault: Option<Fault>) -> Planes {
+    let tracer =
+        LightTracer::new(scene, &scene.settings, Some(LAMBDA_NM)).with_fault(fault).counting_everything();
+    assert_eq!(tracer.why_none(), None);
+    let (width, height) = (scene.camera.width(), scene.camera.height());
+    let layout = FilmLayout { stokes: true, bands: None, monochromatic_nm: Some(LAMBDA_NM) };
+    let light_layout = tracer.splat_layout(&layout);
+    let sequence = LightPathSequence::new(seed);
+    let per_thread = paths.div_ceil(THREADS as u64);
+    let splats: Vec<Splats> = std::thread::scope(|scope| {
+        let workers: Vec<_> = (0..THREADS as u64)
+            .map(|t| {
+                let (tracer, sequence) = (&tracer, &sequence);
+                let range = (t * per_thread).min(paths)..((t + 1) * per_thread).min(paths);
+                scope.spawn(move || {
+                    let (mut splats, mut scratch, mut stats) =
+                        (Splats::default(), Scratch::<Stokes>::default(), TraceStats::default());
+                    for mut rng in sequence.paths(range) {
+                        tracer.trace_path::<Stokes>(
+                            &mut rng,
+                            &light_layout,
+                            &mut splats,
+                            &mut scratch,
+                            &mut stats,
+                        );
+                    }
+                    splats
+                })
+            })
+            .collect();
+        workers.into_iter().map(|w| w.join().expect("a light-tracing thread")).collect()
+    });
+    let mut sums = WindowSums::with_light_layout(PixelWindow::full(width, height), layout, light_layout);
+    for part in &splats {
+        assert_eq!(sums.add_splats(part, width), None);
+    }
+    stokes_planes(&sums.film(1, paths, (width, height)))
+}
+
+/// What `ray` meets first past the polarising sheets (which are no vertex of a path): whether
+/// it is a light, and its material; `None` when it escapes.
+fn first_vertex(scene: &Scene, mut ray: Ray) -> Option<(bool, &Material)> {
+    // A ray crosses each of the two sheets at most once.
+    for _ in 0..3 {
+        let hit = scene.geometry.intersect(&ray, f32::INFINITY)?;
+        let surface = scene.surfaces[hit.prim as usize];
+        let material = &scene.materials[surface.material as usize];
+        if !matches!(material, Material::Polarizer(_) | Material::Retarder(_)) {
+            return Some((surface.emitter.is_some(), material));
+        }
+        ray = Ray::new(spawn_origin(hit.point, hit.normal, ray.dir), ray.dir);
+    }
+    None
+}
+
+/// Per pixel (row-major), true when `seen` holds for what the camera ray meets first
+/// ([`first_vertex`]) over the whole pixel: a 4 × 4 grid of rays.
+fn over_each_pixel(scene: &Scene, seen: impl Fn(Option<(bool, &Material)>) -> bool) -> Vec<bool> {
+    let (w, h) = (scene.camera.width() as usize, scene.camera.height() as usize);
+    (0..w * h)
+        .map(|i| {
+            (0..16).all(|k| {
+                let (x, y) = (
+                    (i % w) as f32 + (k % 4) as f32 * 0.25 + 0.125,
+                    (i / w) as f32 + (k / 4) as f32 * 0.25 + 0.125,
+                );
+                seen(first_vertex(scene, scene.camera.ray(x, y)))
+            })
+        })
+        .collect()
+}
+
+/// Per pixel (row-major), true when the camera sees a diffuse surface or a light over the
+/// whole pixel and its eight neighbours (the neighbours keep out a pixel whose corner holds a
+/// sliver of a sphere the grid of rays missed).
+fn diffuse_or_light_seen_directly(scene: &Scene) -> Vec<bool> {
+    let (w, h) = (scene.camera.width() as usize, scene.camera.height() as usize);
+    let seen = over_each_pixel(scene, |first| {
+        first.is_some_and(|(emitter, material)| emitter || matches!(material, Material::Diffuse(_)))
+    });
+    (0..w * h)
+        .map(|i| {
+            let (x, y) = (i % w, i / w);
+            (y.saturating_sub(1)..(y + 2).min(h))
+                .all(|yy| (x.saturating_sub(1)..(x + 2).min(w)).all(|xx| seen[yy * w + xx]))
+        })
+        .collect()
+}
+
+/// Per pixel, true when the camera sees a light over the whole pixel.
+fn light_seen(scene: &Scene) -> Vec<bool> {
+    over_each_pixel(scene, |first| first.is_some_and(|(emitter, _)| emitter))
+}
+
+/// The comparison of the light side (`light`, two seeds) with the camera side (`camera`, two
+/// seeds) on `mask`.
+fn compare(light: &[Planes; 2], camera: &[Planes; 2], mask: &[bool]) -> Comparison {
+    compare_with(
+        &light[0],
+        &light[1],
+        &camera[0],
+        &camera[1],
+        &Options { mask: Some(mask), reference_variance: None, mean_tolerance: 0.0 },
+    )
+}
+
+/// True when `comparison` passes `prisma validate`'s default checks for bias: outliers beyond the
+/// null at most [`DEFAULT_MAX_OUTLIER_FRACTION`], and |z| of the image means at most
+/// [`DEFAULT_MAX_MEAN_Z`].
+fn passes(comparison: &Comparison) -> bool {
+    comparison.outlier_fraction - comparison.null_outlier_fraction <= DEFAULT_MAX_OUTLIER_FRACTION
+        && comparison.mean_z <= DEFAULT_MAX_MEAN_Z
+}
+
+fn report(label: &str, comparison: &Comparison) {
+    eprintln!(
+        "{label}: outliers {:.4} (null {:.4}), |z| of means {:.2}, mean ratios (light/camera) {:?}, \
+         relMSE beyond noise {:.2e}",
+        comparison.outlier_fraction,
+        comparison.null_outlier_fraction,
+        comparison.mean_z,
+        comparison.mean_ratio.iter().map(|r| format!("{r:.4}")).collect::<Vec<_>>(),
+        comparison.rel_mse_excess,
+    );
+}
+
+/// Renders `scene` with both sides alone (two seeds each) and compares them on the pixels whose
+/// camera ray first meets a diffuse surface or a light: the comparison, and that of the light
+/// side traced with `fault` (on the light side only; a quarter of the paths: the faults tried
+/// are far beyond the noise) against the same camera side; and the light side's two images and
+/// the mask, for further comparisons.
+fn both_sides(scene: &Scene, fault: Fault) -> (Comparison, Comparison, [Planes; 2], Vec<bool>) {
+    let mask = diffuse_or_light_seen_directly(scene);
+    let compared = mask.iter().filter(|&&m| m).count();
+    let lit = light_seen(scene).iter().zip(&mask).filter(|(l, m)| **l && **m).count();
+    eprintln!("{compared} of {} pixels compared, {lit} of them on a light", mask.len());
+    // Most of the image is diffuse, the spheres take a tenth or more, and a light is seen.
+    assert!(compared > mask.len() / 2, "{compared}");
+    assert!(compared < mask.len() * 9 / 10, "{compared}: the spheres must be seen");
+    assert!(lit >= 8, "{lit}: a light must be seen directly");
+
+    let camera = [camera_side(scene, 1, SPP, None), camera_side(scene, 2, SPP, None)];
+    let paths = LIGHT_PATHS_PER_PIXEL * mask.len() as u64;
+    let light = [light_side(scene, 11, paths, None), light_side(scene, 12, paths, None)];
+    let comparison = compare(&light, &camera, &mask);
+    report("light alone vs camera alone", &comparison);
+    let faulty =
+        [light_side(scene, 13, paths / 4, Some(fault)), light_side(scene, 14, paths / 4, Some(fault))];
+    let faulty = compare(&faulty, &camera, &mask);
+    report(&format!("{fault:?} on the light side"), &faulty);
+    (comparison, faulty, light, mask)
+}
+
+/// The two sides agree on the pixels whose camera ray first meets a diffuse surface or the back
+/// light, S0–S3 (S1–S3 are zero there on both: a diffuse vertex depolarises, and the lights are
+/// unpolarised); the light side with the cosine at the receiver dropped
+/// (`Fault::NoReceiverCosine`: every diffuse connection too bright by 1/cos θ) does not, nor
+/// does the camera side with multiple-importance weights that add up to two
+/// (`Fault::MisWeightsUnnormalized`: direct light from the quads counted twice; a quarter of the
+/// samples) against the correct light side.
+#[test]
+fn the_light_tracer_alone_and_the_path_tracer_alone_agree() {
+    let scene = room(false);
+    let (comparison, faulty, light, mask) = both_sides(&scene, Fault::NoReceiverCosine);
+    assert!(passes(&comparison));
+    assert!(!passes(&faulty));
+
+    let fault = Some(Fault::MisWeightsUnnormalized);
+    let faulty_camera = [camera_side(&scene, 3, SPP / 4, fault), camera_side(&scene, 4, SPP / 4, fault)];
+    let faulty = compare(&light, &faulty_camera, &mask);
+    report("MisWeightsUnnormalized on the camera side", &faulty);
+    assert!(!passes(&faulty));
+}
+
+/// As [`the_light_tracer_alone_and_the_path_tracer_alone_agree`] with polarising sheets in the
+/// room ([`SHEETS`]): S1–S3 are non-zero on the pixels seen through them, where the light side's
+/// connection to the camera and the camera side's ray cross the same sheets in opposite
+/// directions. A Stokes frame rotation built transposed on the light side alone
+/// (`Fault::TransposedRotation`) turns the polarisation the wrong way there and fails.
+///
+/// Ignored until the path tracer weighs a quad light met through a sheet with the distance
+/// from the diffuse vertex (src/integrator/path.rs, `emitter_hit_weight` takes the last
+/// segment's, sheet to light): its multiple-importance weights then add to more than one, and
+/// the camera side came out 2.6 % brighter than the light side (light/camera 0.974 in S0, |z| of
+/// the means 17.4; with the distance from the diffuse vertex, 0.9970 and |z| 2.00).
+#[test]
+#[ignore = "the path tracer's MIS weight through sheets (path.rs emitter_hit_weight, issue 39)"]
+fn the_two_sides_agree_through_polarising_sheets() {
+    let scene = room(true);
+    let (comparison, faulty, ..) = both_sides(&scene, Fault::TransposedRotation);
+    // The sheets polarise what the camera sees through them.
+    let ratios = &comparison.mean_ratio;
+    assert!(ratios.iter().all(|r| r.is_finite()), "S1–S3 must be non-zero: {ratios:?}");
+    assert!(passes(&comparison));
+    assert!(!passes(&faulty));
+}
