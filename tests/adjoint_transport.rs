@@ -388,13 +388,12 @@ fn the_light_tracer_alone_and_the_path_tracer_alone_agree() {
 /// directions. A Stokes frame rotation built transposed on the light side alone
 /// (`Fault::TransposedRotation`) turns the polarisation the wrong way there and fails.
 ///
-/// Ignored until the path tracer weighs a quad light met through a sheet with the distance
-/// from the diffuse vertex (src/integrator/path.rs, `emitter_hit_weight` takes the last
-/// segment's, sheet to light): its multiple-importance weights then add to more than one, and
-/// the camera side came out 2.6 % brighter than the light side (light/camera 0.974 in S0, |z| of
-/// the means 17.4; with the distance from the diffuse vertex, 0.9970 and |z| 2.00).
+/// This test found a bug: the path tracer weighed a quad light met through a sheet with the last
+/// segment's distance (sheet to light) where the distance from the diffuse vertex is right, so
+/// its multiple-importance weights added to more than one and the camera side came out 2.6 %
+/// brighter than the light side (light/camera 0.974 in S0, |z| of the means 17.4; fixed: 0.9970
+/// and |z| 2.00).
 #[test]
-#[ignore = "the path tracer's MIS weight through sheets (path.rs emitter_hit_weight, issue 39)"]
 fn the_two_sides_agree_through_polarising_sheets() {
     let scene = room(true);
     let (comparison, faulty, ..) = both_sides(&scene, Fault::TransposedRotation);

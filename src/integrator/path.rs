@@ -101,8 +101,8 @@ enum Previous {
     Camera,
     /// A mirror or glass interaction.
     Specular,
-    /// A diffuse vertex whose drawn direction had this density (sr⁻¹).
-    Diffuse { pdf: f32 },
+    /// A diffuse vertex at `from` whose drawn direction had this density (sr⁻¹).
+    Diffuse { pdf: f32, from: Vec3 },
 }
 
 /// One path on its way: where it goes, what the camera makes of the light it finds, and the
@@ -317,7 +317,7 @@ impl<'a> PathTracer<'a> {
                     1.0
                 }
             }
-            Previous::Diffuse { pdf } => {
+            Previous::Diffuse { pdf, from } => {
                 if self.fault == Some(Fault::MisWeightsUnnormalized) {
                     return 1.0;
                 }
@@ -326,9 +326,11 @@ impl<'a> PathTracer<'a> {
                     return 0.0;
                 }
                 // The density, per steradian, with which `area_light_samples` points on the quad
-                // would have drawn this direction.
+                // would have drawn this direction: over the whole distance from the diffuse
+                // vertex (the last segment alone is shorter when the path crossed a sheet).
+                let distance_squared = (hit.point - from).length_squared();
                 let light_pdf =
-                    self.area_light_samples as f32 * hit.t * hit.t / (quad.quad.area() * cos_light);
+                    self.area_light_samples as f32 * distance_squared / (quad.quad.area() * cos_light);
                 power_heuristic(pdf, light_pdf)
             }
         }
@@ -345,7 +347,7 @@ impl<'a> PathTracer<'a> {
             _ if self.fault == Some(Fault::DarkBackground) && state.diffuse_seen => 0.0,
             Previous::Camera | Previous::Specular => 1.0,
             Previous::Diffuse { .. } if self.fault == Some(Fault::MisWeightsUnnormalized) => 1.0,
-            Previous::Diffuse { pdf } => power_heuristic(pdf, BACKGROUND_PDF),
+            Previous::Diffuse { pdf, .. } => power_heuristic(pdf, BACKGROUND_PDF),
         };
         if weight <= 0.0 {
             return B::zero();
@@ -495,7 +497,7 @@ impl<'a> PathTracer<'a> {
         state.response = state.response.depolarized(diffuse.albedo.sample(wavelengths) * weight);
         state.frame_x = any_perpendicular(dir);
         state.ray = Ray::new(spawn_origin(hit.point, normal, dir), dir);
-        state.previous = Previous::Diffuse { pdf };
+        state.previous = Previous::Diffuse { pdf, from: hit.point };
         state.diffuse_seen = true;
         state.eye_vertex_diffuse.get_or_insert(true);
         true
