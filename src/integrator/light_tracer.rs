@@ -411,16 +411,7 @@ impl<'a> LightTracer<'a> {
                 Material::Mirror(mirror) => {
                     let dir = photon.ray.dir;
                     let cos_theta_i = dir.dot(hit.shading_normal);
-                    let mueller = if B::POLARIZED {
-                        let mueller = mirror.mueller(cos_theta_i, wavelengths);
-                        if self.fault == Some(Fault::FlippedPhase) {
-                            mueller.phase_flipped()
-                        } else {
-                            mueller
-                        }
-                    } else {
-                        Mueller::attenuation(mirror.reflectance(cos_theta_i, wavelengths))
-                    };
+                    let mueller = super::mirror_mueller::<B>(self.fault, mirror, cos_theta_i, wavelengths);
                     let s = if B::POLARIZED {
                         s_axis(hit.shading_normal, dir, photon.frame_x)
                     } else {

@@ -175,6 +175,29 @@ pub(crate) fn rotation(fault: Option<Fault>, forward: Vec3, from: Vec3, to: Vec3
     }
 }
 
+/// A mirror's Mueller matrices at every lane for an incidence at `cos_theta_i` (signed, as
+/// [`crate::material::Mirror::mueller`] takes it): the polarised ones, their phase flipped under
+/// [`Fault::FlippedPhase`], when `B` carries Stokes vectors; its s/p-averaged reflectance as an
+/// attenuation when not. The same for Whitted, the light tracer and the path tracer.
+#[inline]
+pub(crate) fn mirror_mueller<B: Beam>(
+    fault: Option<Fault>,
+    mirror: &crate::material::Mirror,
+    cos_theta_i: f32,
+    wavelengths: &SampledWavelengths,
+) -> Mueller {
+    if B::POLARIZED {
+        let mueller = mirror.mueller(cos_theta_i, wavelengths);
+        if fault == Some(Fault::FlippedPhase) {
+            mueller.phase_flipped()
+        } else {
+            mueller
+        }
+    } else {
+        Mueller::attenuation(mirror.reflectance(cos_theta_i, wavelengths))
+    }
+}
+
 /// An element's matrix as the render uses it: its phase sign flipped under
 /// [`Fault::FlippedPhase`].
 #[inline]

@@ -231,16 +231,7 @@ impl<'a> PathTracer<'a> {
                 }
                 Material::Mirror(mirror) => {
                     let cos_theta_i = state.ray.dir.dot(hit.shading_normal);
-                    let mueller = if B::POLARIZED {
-                        let mueller = mirror.mueller(cos_theta_i, wavelengths);
-                        if self.fault == Some(Fault::FlippedPhase) {
-                            mueller.phase_flipped()
-                        } else {
-                            mueller
-                        }
-                    } else {
-                        Mueller::attenuation(mirror.reflectance(cos_theta_i, wavelengths))
-                    };
+                    let mueller = super::mirror_mueller::<B>(self.fault, mirror, cos_theta_i, wavelengths);
                     let dir = reflect(state.ray.dir, hit.shading_normal).normalize();
                     self.turn::<B>(&mut state, hit, hit.shading_normal, &mueller, dir);
                     state.previous = Previous::Specular;

@@ -165,16 +165,7 @@ impl<'a> Whitted<'a> {
                 if depth >= self.max_depth => {}
             Material::Mirror(mirror) => {
                 let cos_theta_i = ray.dir.dot(hit.shading_normal);
-                let mueller = if B::POLARIZED {
-                    let mueller = mirror.mueller(cos_theta_i, wavelengths);
-                    if self.fault == Some(Fault::FlippedPhase) {
-                        mueller.phase_flipped()
-                    } else {
-                        mueller
-                    }
-                } else {
-                    Mueller::attenuation(mirror.reflectance(cos_theta_i, wavelengths))
-                };
+                let mueller = super::mirror_mueller::<B>(self.fault, mirror, cos_theta_i, wavelengths);
                 let dir = reflect(ray.dir, hit.shading_normal).normalize();
                 let s = if B::POLARIZED { s_axis(hit.shading_normal, -ray.dir, frame_x) } else { frame_x };
                 let reflected =
