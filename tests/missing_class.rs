@@ -4,7 +4,8 @@
 //! S, so this test measures the class on stand-ins: each delta light of a shipped scene is
 //! replaced by area lights of the same power and nearly the same emission, and the path tracer
 //! renders the stand-in scene counting only that class
-//! ([`PathTracer::counting_only_specular_eye_caustics`]); the full image is the original
+//! ([`PathTracer::counting_only_specular_eye_caustics`]; the scene's own quad lights made black
+//! quads there, their class being counted already); the full image is the original
 //! scene's full-transport render (path tracer + light tracer: everything but the class) plus the
 //! class.
 //!
