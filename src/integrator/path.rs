@@ -92,6 +92,9 @@ pub struct PathTracer<'a> {
     has_sheets: bool,
     /// Each glass's index at a monochromatic render's wavelength.
     indices: MonochromaticIndices,
+    /// Validation only: count the quad lights' L S⁺ D X* S⁺ E paths and nothing else
+    /// ([`Self::counting_only_specular_eye_caustics`]).
+    only_specular_eye_caustics: bool,
 }
 
 /// What the previous vertex of a path was, for weighting what the path meets next.
@@ -143,7 +146,16 @@ impl<'a> PathTracer<'a> {
             background_lights: scene.background.values().iter().any(|&v| v > 0.0),
             has_sheets: scene.materials.iter().any(Material::is_filter),
             indices: MonochromaticIndices::default(),
+            only_specular_eye_caustics: false,
         }
+    }
+
+    /// Validation only (tests/missing_class.rs): the same integrator counting nothing but the
+    /// paths L S⁺ D X* S⁺ E of quad lights (BSDF hits after a specular vertex, on a path with a
+    /// diffuse vertex and a specular eye end): the class that nobody counts for delta lights,
+    /// measured on scenes whose delta lights are replaced by small area lights.
+    pub fn counting_only_specular_eye_caustics(self) -> Self {
+        Self { only_specular_eye_caustics: true, ..self }
     }
 
     /// The same integrator for a render at the one wavelength `nm` (nm), if monochromatic.
@@ -296,6 +308,12 @@ impl<'a> PathTracer<'a> {
     /// only this hit makes the path, the power heuristic's where next-event estimation could
     /// have made it too, 0 where the light tracer counts it.
     fn emitter_hit_weight<R>(&self, state: &PathState<R>, quad: &crate::light::QuadLight, hit: &Hit) -> f32 {
+        if self.only_specular_eye_caustics {
+            let class = state.previous == Previous::Specular
+                && state.diffuse_seen
+                && state.eye_vertex_diffuse == Some(false);
+            return if class { 1.0 } else { 0.0 };
+        }
         match state.previous {
             Previous::Camera => 1.0,
             Previous::Specular => {
@@ -331,7 +349,7 @@ impl<'a> PathTracer<'a> {
     /// [`Self::emitter_hit_weight`] weights quads (the light tracer never starts at the
     /// background, so camera paths count all of its paths).
     fn background<B: PathBeam>(&self, state: &PathState<B::Response>, wavelengths: &SampledWavelengths) -> B {
-        if !self.background_lights {
+        if !self.background_lights || self.only_specular_eye_caustics {
             return B::zero();
         }
         let weight = match state.previous {
@@ -357,6 +375,9 @@ impl<'a> PathTracer<'a> {
         rng: &mut PixelRng,
         stats: &mut TraceStats,
     ) -> B {
+        if self.only_specular_eye_caustics {
+            return B::zero();
+        }
         let to_viewer = -state.ray.dir;
         let (normal, shading_normal) = facing(hit, to_viewer);
         // Σ over samples of L_e·G·shape·MIS weight; ρ/π once at the end.
