@@ -517,8 +517,9 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         };
         let part = if is_part { format!(" (part: samples {done}, window {window})") } else { String::new() };
         say!(
-            "rendered {}: {width}×{height}, {} spp{caustics}{part}, {}, {} in {seconds:.2} s on {} thread{} ({:.1} M rays, {:.2} M rays/s)",
+            "rendered {}: {width}×{height}, {}, {} spp{caustics}{part}, {}, {} in {seconds:.2} s on {} thread{} ({:.1} M rays, {:.2} M rays/s)",
             args.scene.display(),
+            settings.integrator.name(),
             settings.spp,
             if settings.polarized { "polarised" } else { "unpolarised" },
             match args.wavelength {
