@@ -41,7 +41,8 @@ Run from the repository root after validation/setup.sh and `cargo build --releas
    is estimated from the difference of the two halves and subtracted, as above. Mitsuba's JIT
    compilation does not depend on the sample count (measured: a first render at a new count
    takes as long as the second), so each sampler is warmed up once, at 4 spp; its three samplers
-   run to 1024 spp and the fastest of them to 4096. Also prisma's 1 → 2 thread scaling and peak
+   run to 1024 spp, and multijitter again with the background left out of its light sampling
+   (TRANSPORT_RENDERERS), and the fastest of the four to 4096. Also prisma's 1 → 2 thread scaling and peak
    memory (/usr/bin/time -v), and the load average at the start and end of the run.
 """
 
@@ -309,11 +310,20 @@ TRANSPORT_REFERENCE = "tp6_quad_path_prisma_cmf"
 # of 4 (ldsampler's and multijitter's best counts, as above) up to 1024 for each sampler, and
 # TRANSPORT_LONG_SPP for the sampler fastest at 1024 spp only (a 4096-spp render takes over a
 # minute on two cores: all three would not fit the quiet spell of a shared machine).
+#
+# Mitsuba picks the light of each next-event estimate among the scene's emitters with
+# probability proportional to their `sampling_weight` (1 by default: measured with
+# Scene.sample_emitter, the quad and the background 1/2 each), and the background lights this
+# closed room along no direction of positive measure: half its estimates are wasted. The last
+# entry is Mitsuba tuned for the scene, the background's sampling_weight 0 (still a light, met by
+# BSDF sampling with full weight: unbiased), so that the race is against its best configuration.
+QUAD_ONLY = "multijitter, quad-only NEE"
 TRANSPORT_RENDERERS = [
     ("prisma", "sobol-owen", [1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024]),
     ("llvm", "independent", [4, 16, 64, 256, 1024]),
     ("llvm", "ldsampler", [4, 16, 64, 256, 1024]),
     ("llvm", "multijitter", [4, 16, 64, 256, 1024]),
+    ("llvm", QUAD_ONLY, [4, 16, 64, 256, 1024]),
 ]
 TRANSPORT_LONG_SPP = 4096
 TRANSPORT_TARGETS = [1e-3, 1e-4]
@@ -354,13 +364,16 @@ def transport_reference():
 def mitsuba_transport_renders(variant, sampler, prisma, scene_path, levels, export_dir):
     """[(spp, render seconds, image)] of Mitsuba's full-transport path tracer at each sample count,
     the scene loaded once and compiled by a first 4-spp render (not timed: the kernels do not
-    depend on the sample count). Each count's time is the best of `timing_repeats` renders at
+    depend on the sample count). `sampler` is a Mitsuba sampler's name or QUAD_ONLY. Each count's time is the best of `timing_repeats` renders at
     seeds 11, 12, …; its image is the first's."""
     mi.set_variant(variant)
     scene = translate.PrismaScene.load(scene_path, export_dir, prisma)
     translator = translate.Translator(scene, None, False, plane_half_size="graded")
     integrator = translate.full_transport_integrator(scene.max_depth)
-    mitsuba_scene = mi.load_dict(translator.scene_dict(integrator, 4, sampler=sampler, film="prisma_xyz"))
+    description = translator.scene_dict(integrator, 4, sampler=sampler.split(",")[0], film="prisma_xyz")
+    if sampler == QUAD_ONLY:
+        description["background"]["sampling_weight"] = 0.0
+    mitsuba_scene = mi.load_dict(description)
     sampler_object = mitsuba_scene.sensors()[0].sampler()
     mi.render(mitsuba_scene, spp=4, seed=10)
     film = mitsuba_scene.sensors()[0].film()
@@ -480,7 +493,11 @@ def transport(args, prisma):
              f"(and Mitsuba's JIT compilation, done once per sampler by a 4-spp render: its kernels do not depend "
              f"on the sample count); the best of three renders up to 256 spp, of one above (prisma renders "
              f"the same seed each time, Mitsuba seeds 11, 12, 13: the error is the first's). Mitsuba runs its "
-             f"three samplers to 1024 spp and the one fastest there to {TRANSPORT_LONG_SPP}.", ""]
+             f"three samplers to 1024 spp, and `multijitter` once more with the background's `sampling_weight` 0 "
+             f"(`{QUAD_ONLY}`: by default Mitsuba's next-event estimation picks the quad or the background with "
+             f"probability 1/2 each, and the background lights this room along no direction of positive measure; "
+             f"still a light, met by BSDF sampling), and the one of these four fastest at 1024 spp to "
+             f"{TRANSPORT_LONG_SPP}.", ""]
     summary = {}
     for mode, result in results.items():
         flag, llvm_variant, _, _ = MODES[mode]
