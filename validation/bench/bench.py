@@ -364,8 +364,9 @@ def transport_reference():
 def mitsuba_transport_renders(variant, sampler, prisma, scene_path, levels, export_dir):
     """[(spp, render seconds, image)] of Mitsuba's full-transport path tracer at each sample count,
     the scene loaded once and compiled by a first 4-spp render (not timed: the kernels do not
-    depend on the sample count). `sampler` is a Mitsuba sampler's name or QUAD_ONLY. Each count's time is the best of `timing_repeats` renders at
-    seeds 11, 12, …; its image is the first's."""
+    depend on the sample count). `sampler` is a Mitsuba sampler's name or QUAD_ONLY. Each
+    count's time is the best of `timing_repeats` renders at seeds 11, 12, …; its image is the
+    first's."""
     mi.set_variant(variant)
     scene = translate.PrismaScene.load(scene_path, export_dir, prisma)
     translator = translate.Translator(scene, None, False, plane_half_size="graded")
