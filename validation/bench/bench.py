@@ -27,6 +27,23 @@ Run from the repository root after validation/setup.sh and `cargo build --releas
   validation/.venv/bin/python validation/bench/bench.py            # writes validation/bench/RESULTS.md
   validation/.venv/bin/python validation/bench/bench.py --quick    # smaller, for a smoke test
   ... bench.py --skip-rays --modes polarised                          # part of it
+  ... bench.py --transport      # full transport only (below); its section of RESULTS.md is replaced
+
+3. --transport: full light transport, TP6 with its quad light (validation/scenes/tp6_quad_path.toml,
+   scenes/tp6_quad.toml's scene at 150×100 with `integrator = "path"`, max_depth 64): prisma's
+   `path` integrator against Mitsuba's `path` (max_depth 65, its default Russian roulette;
+   translate.full_transport_integrator, as the references), unpolarised (prisma --unpolarized
+   against llvm_ad_spectral) and polarised (prisma's default against llvm_ad_spectral_polarized);
+   the scene has no Fresnel interface and unpolarised lights, so both modes compute the same S0
+   and are measured against the same reference. The reference is the mean of the two committed
+   `tp6_quad_path_prisma_cmf` renders, each weighed with one more render of the same case from
+   validation/bench/transport_reference.py (when present) by their sample counts; its own noise
+   is estimated from the difference of the two halves and subtracted, as above. Mitsuba's JIT
+   compilation does not depend on the sample count (measured: a first render at a new count
+   takes as long as the second), so each sampler is warmed up once, at 4 spp; its three samplers
+   run to 1024 spp, and multijitter again with the background left out of its light sampling
+   (TRANSPORT_RENDERERS), and the fastest of the four to 4096. Also prisma's 1 → 2 thread scaling and peak
+   memory (/usr/bin/time -v), and the load average at the start and end of the run.
 """
 
 import argparse
@@ -35,6 +52,8 @@ import json
 import os
 import pathlib
 import platform
+import re
+import resource
 import subprocess
 import sys
 import tempfile
@@ -217,13 +236,14 @@ def timing_repeats(spp):
     return 3 if spp <= 256 else 1
 
 
-def prisma_render(prisma, scene, spp, out_dir, mode_flag):
+def prisma_render(prisma, scene, spp, out_dir, mode_flag, extra_args=(), with_stats=False):
     """(render seconds, process wall seconds, image): the render time excludes loading the scene
     and writing the images, as Mitsuba's does (its scene is loaded before the clock starts). The
-    best of `timing_repeats` runs; the image is the same every run (same seed)."""
+    best of `timing_repeats` runs; the image is the same every run (same seed). `extra_args` are
+    passed to `prisma render`; with_stats adds the best run's stats JSON (rays, samples)."""
     out = out_dir / f"prisma_{scene.stem}_{spp}{mode_flag}.exr"
     stats = out_dir / f"prisma_{scene.stem}_{spp}{mode_flag}.json"
-    best = (float("inf"), float("inf"))
+    best = (float("inf"), float("inf"), None)
     # Dr.Jit's worker threads keep a core busy for 0.1-0.2 s after Mitsuba's last render or image
     # read in this process; a prisma render started meanwhile shares the cores with them (see
     # SETTLE_SECONDS in caustics_bench.py). The repeats follow one another without Dr.Jit work.
@@ -231,10 +251,13 @@ def prisma_render(prisma, scene, spp, out_dir, mode_flag):
     for _ in range(timing_repeats(spp)):
         start = time.perf_counter()
         subprocess.run([prisma, "render", str(scene), "--spp", str(spp), "-o", str(out), "--quiet", "--seed",
-                        "7", "--stats", str(stats), mode_flag], check=True)
+                        "7", "--stats", str(stats), mode_flag, *extra_args], check=True)
         wall = time.perf_counter() - start
-        best = min(best, (json.loads(stats.read_text())["render_seconds"], wall))
-    return best[0], best[1], read_exr(out, ["R", "G", "B"])
+        figures = json.loads(stats.read_text())
+        if (figures["render_seconds"], wall) < best[:2]:
+            best = (figures["render_seconds"], wall, figures)
+    image = read_exr(out, ["R", "G", "B"])
+    return (best[0], best[1], image, best[2]) if with_stats else (best[0], best[1], image)
 
 
 def mitsuba_render(variant, sampler, prisma, scene_path, integrator_kind, spp, export_dir):
@@ -280,14 +303,304 @@ def time_to_error(points, target):
     return float(t1 * (target / e1) ** slope), True
 
 
+# Full transport (--transport): TP6 with its quad light, prisma's `path` against Mitsuba's `path`.
+TRANSPORT_SCENE = "tp6_quad_path"
+TRANSPORT_REFERENCE = "tp6_quad_path_prisma_cmf"
+# prisma: doubling sample counts up to 1024 (relMSE 1e-4 needs about 500 spp). Mitsuba: powers
+# of 4 (ldsampler's and multijitter's best counts, as above) up to 1024 for each sampler, and
+# TRANSPORT_LONG_SPP for the sampler fastest at 1024 spp only (a 4096-spp render takes over a
+# minute on two cores: all three would not fit the quiet spell of a shared machine).
+#
+# Mitsuba picks the light of each next-event estimate among the scene's emitters with
+# probability proportional to their `sampling_weight` (1 by default: measured with
+# Scene.sample_emitter, the quad and the background 1/2 each), and the background lights this
+# closed room along no direction of positive measure: half its estimates are wasted. The last
+# entry is Mitsuba tuned for the scene, the background's sampling_weight 0 (still a light, met by
+# BSDF sampling with full weight: unbiased), so that the race is against its best configuration.
+QUAD_ONLY = "multijitter, quad-only NEE"
+TRANSPORT_RENDERERS = [
+    ("prisma", "sobol-owen", [1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024]),
+    ("llvm", "independent", [4, 16, 64, 256, 1024]),
+    ("llvm", "ldsampler", [4, 16, 64, 256, 1024]),
+    ("llvm", "multijitter", [4, 16, 64, 256, 1024]),
+    ("llvm", QUAD_ONLY, [4, 16, 64, 256, 1024]),
+]
+TRANSPORT_LONG_SPP = 4096
+TRANSPORT_TARGETS = [1e-3, 1e-4]
+# prisma's 1 → 2 thread scaling and peak memory: this many samples per pixel, best of this many
+# alternating rounds.
+SCALING_SPP, SCALING_ROUNDS = 256, 3
+TRANSPORT_BEGIN = "<!-- bench.py --transport: begin -->"
+TRANSPORT_END = "<!-- bench.py --transport: end -->"
+
+
+def transport_reference():
+    """(reference, its own noise, description): the two committed `tp6_quad_path_prisma_cmf`
+    references, each weighed by sample count with the render of validation/bench/references of
+    the same parity (seed 3 with 1, 4 with 2) when those exist; the noise from the two halves."""
+    committed_dir = REPO / "validation" / "references"
+    extra_dir = REPO / "validation" / "bench" / "references"
+    committed_spp = json.loads((committed_dir / f"{TRANSPORT_REFERENCE}.json").read_text())["spp"]
+    halves = [read_exr(committed_dir / f"{TRANSPORT_REFERENCE}_seed{k}.exr", ["R", "G", "B"]) for k in (1, 2)]
+    text = (f"the mean of the two committed `{TRANSPORT_REFERENCE}` Mitsuba references "
+            f"({committed_spp} spp each, `independent` sampler)")
+    extra_json = extra_dir / f"{TRANSPORT_REFERENCE}.json"
+    if extra_json.exists():
+        extra = json.loads(extra_json.read_text())
+        extra_spp = extra["spp_per_pass"] * extra["passes"]
+        extras = [read_exr(extra_dir / render["file"], ["R", "G", "B"]) for render in extra["renders"]]
+        # The new renders must estimate what the committed ones do: the relMSE between the two
+        # means is the sum of their noises if neither is biased.
+        between = rel_mse(0.5 * (halves[0] + halves[1]), 0.5 * (extras[0] + extras[1]))
+        expected = reference_noise(*halves) + reference_noise(*extras)
+        halves = [(committed_spp * c + extra_spp * e) / (committed_spp + extra_spp) for c, e in zip(halves, extras)]
+        text += (f", each weighed with one more render of the same translation and settings at another seed "
+                 f"(`validation/bench/transport_reference.py`, {extra_spp} spp each): two halves of "
+                 f"{committed_spp + extra_spp} spp (the committed and the new means differ by relMSE "
+                 f"{between:.3e}, their noises predict {expected:.3e})")
+    return 0.5 * (halves[0] + halves[1]), reference_noise(*halves), text
+
+
+def mitsuba_transport_renders(variant, sampler, prisma, scene_path, levels, export_dir):
+    """[(spp, render seconds, image)] of Mitsuba's full-transport path tracer at each sample count,
+    the scene loaded once and compiled by a first 4-spp render (not timed: the kernels do not
+    depend on the sample count). `sampler` is a Mitsuba sampler's name or QUAD_ONLY. Each
+    count's time is the best of `timing_repeats` renders at seeds 11, 12, …; its image is the
+    first's."""
+    mi.set_variant(variant)
+    scene = translate.PrismaScene.load(scene_path, export_dir, prisma)
+    translator = translate.Translator(scene, None, False, plane_half_size="graded")
+    integrator = translate.full_transport_integrator(scene.max_depth)
+    description = translator.scene_dict(integrator, 4, sampler=sampler.split(",")[0], film="prisma_xyz")
+    if sampler == QUAD_ONLY:
+        description["background"]["sampling_weight"] = 0.0
+    mitsuba_scene = mi.load_dict(description)
+    sampler_object = mitsuba_scene.sensors()[0].sampler()
+    mi.render(mitsuba_scene, spp=4, seed=10)
+    film = mitsuba_scene.sensors()[0].film()
+    out = []
+    for spp in levels:
+        timings, first = [], None
+        for k in range(timing_repeats(spp)):
+            start = time.perf_counter()
+            image = mi.render(mitsuba_scene, spp=spp, seed=11 + k)
+            dr.eval(image)
+            dr.sync_thread()
+            timings.append(time.perf_counter() - start)
+            if first is None:
+                first = np.array(image, dtype=np.float64)
+        actual = int(sampler_object.sample_count())
+        channels = [film.bitmap().struct_()[i].name for i in range(first.shape[-1])]
+        rgb, names = translate.prisma_rgb(first, channels)
+        out.append((actual, min(timings), np.stack([rgb[..., names.index(c)] for c in "RGB"], -1)))
+        print(f"transport {variant} {sampler} spp {actual}: {min(timings):.3f} s", flush=True)
+    return out
+
+
+def prisma_process(prisma, scene, spp, threads, mode_flag, out_dir):
+    """One `prisma render` under /usr/bin/time -v: (render seconds, process wall seconds, peak
+    resident memory in MiB, stats)."""
+    out = out_dir / f"scaling_{threads}{mode_flag}.exr"
+    stats = out_dir / f"scaling_{threads}{mode_flag}.json"
+    time.sleep(0.5)  # Dr.Jit's idle worker threads (prisma_render)
+    start = time.perf_counter()
+    run = subprocess.run(["/usr/bin/time", "-v", prisma, "render", str(scene), "--integrator", "path", "--spp",
+                          str(spp), "--threads", str(threads), "-o", str(out), "--quiet", "--seed", "7", "--stats",
+                          str(stats), mode_flag], check=True, capture_output=True, text=True)
+    wall = time.perf_counter() - start
+    peak = re.search(r"Maximum resident set size \(kbytes\): (\d+)", run.stderr)
+    figures = json.loads(stats.read_text())
+    return figures["render_seconds"], wall, int(peak.group(1)) / 1024.0 if peak else float("nan"), figures
+
+
+def load_text():
+    """`uptime`'s load averages (1, 5, 15 minutes) and the UTC time."""
+    one, five, fifteen = os.getloadavg()
+    now = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M:%S UTC")
+    return f"{now}, load average {one:.2f}, {five:.2f}, {fifteen:.2f}"
+
+
+def transport(args, prisma):
+    """The full-transport race (see the module's docstring, 3.): its RESULTS.md section's lines
+    and a summary for the headline."""
+    scene_path = REPO / "validation" / "scenes" / f"{TRANSPORT_SCENE}.toml"
+    reference, floor, reference_text = transport_reference()
+    pixels = reference.shape[0] * reference.shape[1]
+    started = load_text()
+    print(f"transport: reference noise {floor:.3e}; start {started}", flush=True)
+    quick = (lambda levels: [spp for spp in levels if spp <= 16]) if args.quick else (lambda levels: levels)
+    results = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        tmp = pathlib.Path(tmp)
+        for mode in args.modes:
+            flag, llvm_variant, _, _ = MODES[mode]
+            # (renderer, sampler) -> [(spp, render seconds, process wall or None, relMSE, stats or None)]
+            result = {}
+            for renderer, sampler, levels in TRANSPORT_RENDERERS:
+                if renderer == "prisma":
+                    for spp in quick(levels):
+                        seconds, wall, image, figures = prisma_render(prisma, scene_path, spp, tmp, flag,
+                                                                      ("--integrator", "path"), with_stats=True)
+                        error = rel_mse(image, reference) - floor
+                        result.setdefault(("prisma", sampler), []).append((spp, seconds, wall, error, figures))
+                        print(f"transport {mode} prisma spp {spp}: {seconds:.3f} s, relMSE {error:.3e}", flush=True)
+                else:
+                    for spp, seconds, image in mitsuba_transport_renders(llvm_variant, sampler, prisma, scene_path,
+                                                                         quick(levels), tmp / "export"):
+                        error = rel_mse(image, reference) - floor
+                        result.setdefault((llvm_variant, sampler), []).append((spp, seconds, None, error, None))
+                        print(f"transport {mode} {llvm_variant} {sampler} spp {spp}: relMSE {error:.3e}", flush=True)
+            # The sampler that reaches the last common error soonest goes on to TRANSPORT_LONG_SPP.
+            mitsuba_keys = [k for k in result if k[0] == llvm_variant]
+            last = max(min(e for _, _, _, e, _ in result[k]) for k in mitsuba_keys)
+            fastest = min(mitsuba_keys, key=lambda k: time_to_error([(p[1], p[3]) for p in result[k]], last)[0])
+            long_spp = 64 if args.quick else TRANSPORT_LONG_SPP
+            for spp, seconds, image in mitsuba_transport_renders(llvm_variant, fastest[1], prisma, scene_path,
+                                                                 [long_spp], tmp / "export"):
+                error = rel_mse(image, reference) - floor
+                result[fastest].append((spp, seconds, None, error, None))
+                print(f"transport {mode} {llvm_variant} {fastest[1]} spp {spp}: relMSE {error:.3e}", flush=True)
+            results[mode] = result
+        # prisma's thread scaling and peak memory, in alternating rounds.
+        scaling_spp = 16 if args.quick else SCALING_SPP
+        scaling = {}
+        for mode in args.modes:
+            for _ in range(1 if args.quick else SCALING_ROUNDS):
+                for threads in (1, 2):
+                    run = prisma_process(prisma, scene_path, scaling_spp, threads, MODES[mode][0], tmp)
+                    best = scaling.get((mode, threads))
+                    scaling[mode, threads] = run if best is None or run[0] < best[0] else best
+                    print(f"transport {mode} prisma {threads} thread(s) {scaling_spp} spp: {run[0]:.3f} s, "
+                          f"peak {run[2]:.1f} MiB", flush=True)
+    finished = load_text()
+    mitsuba_peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+
+    command = (f"validation/.venv/bin/python validation/bench/bench.py{' ' if sys.argv[1:] else ''}"
+               f"{' '.join(sys.argv[1:])}")
+    lines = [TRANSPORT_BEGIN,
+             f"## Full transport: TP6 with its quad light, prisma `path` against Mitsuba `path` "
+             f"(`validation/scenes/{TRANSPORT_SCENE}.toml`)", "",
+             f"Run: {started} → {finished}. Machine: {machine()}. Mitsuba {mi.__version__}; prisma `{prisma}` "
+             f"(commit {prisma_commit()}). Command: `{command}` (this section written by it).", "",
+             f"The scene is `scenes/tp6_quad.toml` (diffuse walls and spheres, the D65 quad light, the grey "
+             f"background a light too) at 150×100 with `integrator = \"path\"` and `max_depth = 64` bounces; "
+             f"prisma renders it with `--integrator path`, Mitsuba with its `path` integrator (max_depth 65, which "
+             f"counts vertices; Russian roulette from its default depth 5), the translation of the references "
+             f"(graded planes, specfilm with prisma's CIE table, prisma's matrix). relMSE = mean (x − r)²/(r² + 0.01) "
+             f"over the R, G, B pixels against the converged reference: {reference_text}, minus that reference's "
+             f"own noise ({floor:.2e}, from the difference of the halves). The scene has no Fresnel interface and "
+             f"its lights are unpolarised, so the polarised renders' S0 is the unpolarised radiance: both modes "
+             f"are measured against the same reference. Render time excludes loading and writing for both "
+             f"(and Mitsuba's JIT compilation, done once per sampler by a 4-spp render: its kernels do not depend "
+             f"on the sample count); the best of three renders up to 256 spp, of one above (prisma renders "
+             f"the same seed each time, Mitsuba seeds 11, 12, 13: the error is the first's). Mitsuba runs its "
+             f"three samplers to 1024 spp, and `multijitter` once more with the background's `sampling_weight` 0 "
+             f"(`{QUAD_ONLY}`: by default Mitsuba's next-event estimation picks the quad or the background with "
+             f"probability 1/2 each, and the background lights this room along no direction of positive measure; "
+             f"still a light, met by BSDF sampling), and the one of these four fastest at 1024 spp to "
+             f"{TRANSPORT_LONG_SPP}.", ""]
+    summary = {}
+    for mode, result in results.items():
+        flag, llvm_variant, _, _ = MODES[mode]
+        lines += [f"### {mode}: prisma `{flag}` against `{llvm_variant}`", "",
+                  "| renderer | sampler | spp | render time (s) | process wall (s) | samples/s | Mrays/s | "
+                  "rays/sample | relMSE | relMSE × spp |",
+                  "|---|---|---|---|---|---|---|---|---|---|"]
+        for (renderer, sampler), points in result.items():
+            for spp, seconds, wall, error, figures in sorted(points, key=lambda p: p[0]):
+                rays = (f"{figures['rays'] / seconds * 1e-6:.2f} | {figures['rays'] / figures['samples']:.2f}"
+                        if figures else "– | –")
+                lines.append(f"| {renderer} | {sampler} | {spp} | {seconds:.3f} | "
+                             f"{f'{wall:.2f}' if wall is not None else '–'} | {pixels * spp / seconds:,.0f} | "
+                             f"{rays} | {error:.3e} | {error * spp:.3g} |")
+        lines += ["", "Time to reach equal error (seconds, interpolated log-log between the measured points; "
+                  "* extrapolated beyond them):", "",
+                  "| renderer | sampler | " + " | ".join(f"relMSE {t:.0e}" for t in TRANSPORT_TARGETS) + " |",
+                  "|---|---|" + "---|" * len(TRANSPORT_TARGETS)]
+        times = {}
+        for key, points in result.items():
+            cells = []
+            for target in TRANSPORT_TARGETS:
+                t, extrapolated = time_to_error([(p[1], p[3]) for p in points], target)
+                times[key, target] = (t, extrapolated)
+                cells.append(f"{t:.3g}{'*' if extrapolated else ''}")
+            lines.append(f"| {key[0]} | {key[1]} | " + " | ".join(cells) + " |")
+        lines.append("")
+        prisma_key = next(k for k in result if k[0] == "prisma")
+        for target in TRANSPORT_TARGETS:
+            mitsuba = {k: times[k, target] for k in result if k[0] == llvm_variant and np.isfinite(times[k, target][0])}
+            if mitsuba and np.isfinite(times[prisma_key, target][0]):
+                best = min(mitsuba, key=lambda k: mitsuba[k][0])
+                ratio = mitsuba[best][0] / times[prisma_key, target][0]
+                marked = mitsuba[best][1] or times[prisma_key, target][1]
+                summary[mode, target] = (ratio, times[prisma_key, target][0], mitsuba[best][0], best[1], marked)
+                lines.append(f"- relMSE {target:.0e}: prisma {times[prisma_key, target][0]:.3g} s, Mitsuba "
+                             f"{mitsuba[best][0]:.3g} s (`{best[1]}`){' (extrapolated)' if marked else ''}: prisma "
+                             f"is **{ratio:.2f}×** as fast as Mitsuba's fastest configuration.")
+        # Where the ratio comes from: time per sample and error per sample, at the largest sample
+        # counts both ran (errors there are furthest above the reference's noise).
+        prisma_points = sorted(result[prisma_key])
+        p_spp, p_seconds, _, p_error, _ = prisma_points[-1]
+        mitsuba_best = min((k for k in result if k[0] == llvm_variant),
+                           key=lambda k: np.nan_to_num(times[k, TRANSPORT_TARGETS[-1]][0], nan=np.inf))
+        m_spp, m_seconds, _, m_error, _ = sorted(result[mitsuba_best])[-1]
+        per_sample = (m_seconds / m_spp) / (p_seconds / p_spp)
+        per_error = (m_error * m_spp) / (p_error * p_spp)
+        lines += ["", f"Decomposed at the largest counts (prisma {p_spp} spp, Mitsuba `{mitsuba_best[1]}` {m_spp} spp): "
+                  f"a sample costs Mitsuba {per_sample:.2f}× prisma's time, and leaves {per_error:.2f}× prisma's "
+                  f"error (relMSE × spp); their product, {per_sample * per_error:.1f}, is the ratio at equal error "
+                  f"where both errors fall as 1/spp.", ""]
+    lines += [f"### prisma's thread scaling and peak memory ({scaling_spp} spp, best of "
+              f"{1 if args.quick else SCALING_ROUNDS} alternating rounds, `/usr/bin/time -v`)", "",
+              "| mode | threads | render time (s) | process wall (s) | speed-up | peak resident memory (MiB) | Mrays/s |",
+              "|---|---|---|---|---|---|---|"]
+    for mode in args.modes:
+        one = scaling[mode, 1][0]
+        for threads in (1, 2):
+            seconds, wall, peak, figures = scaling[mode, threads]
+            lines.append(f"| {mode} | {threads} | {seconds:.3f} | {wall:.2f} | {one / seconds:.2f}× | {peak:.1f} | "
+                         f"{figures['rays'] / seconds * 1e-6:.2f} |")
+    lines += ["", f"(This Python process's peak resident memory, Mitsuba's renders included: {mitsuba_peak:,.0f} MiB.)",
+              "", TRANSPORT_END]
+    return lines, summary
+
+
+def write_transport_section(out, lines):
+    """Replaces the --transport section of `out` (between its markers), or inserts it before the
+    first `## ` section after the headline table."""
+    text = out.read_text() if out.exists() else "# prisma vs Mitsuba 3: benchmark results\n"
+    block = "\n".join(lines)
+    if TRANSPORT_BEGIN in text and TRANSPORT_END in text:
+        head, rest = text.split(TRANSPORT_BEGIN, 1)
+        text = head + block + rest.split(TRANSPORT_END, 1)[1]
+    else:
+        anchor = text.find("\n## Rendering at equal error")
+        if anchor < 0:
+            text = text.rstrip("\n") + "\n\n" + block + "\n"
+        else:
+            text = text[:anchor + 1] + block + "\n\n" + text[anchor + 1:]
+    out.write_text(text)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="small mesh, few sample counts")
     parser.add_argument("--out", type=pathlib.Path, default=REPO / "validation" / "bench" / "RESULTS.md")
     parser.add_argument("--skip-rays", action="store_true", help="skip the ray-throughput part")
     parser.add_argument("--modes", nargs="+", choices=list(MODES), default=list(MODES))
+    parser.add_argument("--transport", action="store_true",
+                        help="full transport only (TP6's quad light, prisma path vs Mitsuba path); replaces "
+                             "that section of --out and leaves the rest of it")
     args = parser.parse_args()
     prisma = translate.find_prisma()
+    if args.transport:
+        lines, summary = transport(args, prisma)
+        write_transport_section(args.out, lines)
+        print("\n".join(lines))
+        for (mode, target), (ratio, p, m, sampler, marked) in summary.items():
+            print(f"headline: {mode} relMSE {target:.0e}: {ratio:.2f}x (prisma {p:.3g} s, Mitsuba {sampler} {m:.3g} s"
+                  f"{', extrapolated' if marked else ''})")
+        return
     rng = np.random.default_rng(1)
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
