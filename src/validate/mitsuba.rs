@@ -166,7 +166,11 @@ pub fn run_case(
         },
     ];
     // Mitsuba 3's own rule beside prisma's metrics, where the references' variance is known.
-    if let Some(sidak) = comparison.sidak {
+    // Mitsuba's rule is a test per reference pixel: at a block-downsampled resolution the block
+    // means' noise falls f²-fold while the references' sub-pixel systematics (the prism band's
+    // documented 0.01 px edge shift) do not, so the rule is applied at full resolution only
+    // (validation/README.md, "Mitsuba's pass rule").
+    if let Some(sidak) = comparison.sidak.filter(|_| options.downsample == 1) {
         checks.push(Check {
             metric: "Šidák z-tests failing".into(),
             value: sidak.failing_fraction,
