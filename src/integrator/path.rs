@@ -582,7 +582,7 @@ impl<'a> PathTracer<'a> {
         };
         // The transmitted flux per lane (the camera side's 1/η² applied below), zero under
         // total internal reflection.
-        let transmissions: [Option<(Vec3, Mueller)>; N_LAMBDA] = std::array::from_fn(|lane| {
+        let transmission_at = |lane: usize| {
             let f = &fresnel[lane];
             let (refracted, flux) = refraction::<B>(dir, normal, f)?;
             let flux = match &coated {
@@ -590,7 +590,13 @@ impl<'a> PathTracer<'a> {
                 None => flux,
             };
             Some((refracted, flux.scaled(SampledSpectrum::splat(1.0 / (f.eta_it * f.eta_it)))))
-        });
+        };
+        // One refraction for every lane unless the lanes split (then one per live lane).
+        let transmissions: [Option<(Vec3, Mueller)>; N_LAMBDA] = if split {
+            std::array::from_fn(|lane| if live & (1 << lane) != 0 { transmission_at(lane) } else { None })
+        } else {
+            [transmission_at(first_live); N_LAMBDA]
+        };
         // Branch choice: each branch's flux response summed over the live lanes (the camera
         // side's 1/η² left out, so that lossless glass chooses by R and T).
         let strength = state.response.strength();
