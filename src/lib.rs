@@ -11,6 +11,7 @@ mod float_index;
 pub mod geometry;
 pub mod integrator;
 pub mod interrupt;
+pub mod lens;
 pub mod light;
 pub mod material;
 pub mod memory;

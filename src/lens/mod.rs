@@ -1,0 +1,20 @@
+//! Lens systems: prescriptions of rotationally symmetric refracting surfaces (a camera made of
+//! real glass), read from pbrt-v4 lens files or Zemax `.zmx`, analysed paraxially and traced
+//! with real rays per wavelength, in f64.
+//!
+//! Conventions, those of optical design codes (Zemax, CODE V, rayoptics), so that a
+//! prescription reads the same here as in a lens designer's table:
+//! - surfaces are listed from the object (scene) side to the image (sensor) side;
+//! - the optical axis is +z, from the object toward the image, with the first surface's vertex
+//!   at z = 0; lengths in mm;
+//! - a radius of curvature is positive when the centre of curvature lies on the image side of
+//!   the vertex, and 0 means flat;
+//! - a surface's thickness is the axial distance from its vertex to the next surface's vertex
+//!   (for the last surface, to the image plane);
+//! - a surface's medium is the one behind it (on its image side); object space is air;
+//! - air has n = 1 exactly: catalogue indices are relative to air, as in glass makers' data
+//!   sheets and in the design codes the lenses are checked against.
+
+pub mod prescription;
+
+pub use prescription::{LensError, LensSystem, Medium, Surface};
