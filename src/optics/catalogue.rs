@@ -221,6 +221,19 @@ mod tests {
         check("N-BK7", 1.51680, 1e-5, 64.17, 0.01);
         check("N-SF11", 1.78472, 1e-5, 25.68, 0.01);
         check("F2", 1.62004, 1e-5, 36.37, 0.01);
+        // The glasses of the shipped lenses (data/lenses/).
+        check("SF5", 1.67270, 1e-5, 32.21, 0.01);
+        check("N-BAF10", 1.67003, 1e-5, 47.11, 0.01);
+        check("N-SF15", 1.69892, 1e-5, 30.20, 0.01);
+        check("F5", 1.60342, 1e-5, 38.03, 0.01);
+        check("N-SSK5", 1.65844, 1e-5, 50.88, 0.01);
+    }
+
+    #[test]
+    fn ohara_glasses_match_their_data_sheets() {
+        // OHARA data sheets quote n_d to 5 decimals and V_d to 2 (their catalogue file to 6
+        // and 6: 1.717004, 47.927969), so the same tolerances as SCHOTT's.
+        check("S-LAM3", 1.71700, 1e-5, 47.93, 0.01);
     }
 
     #[test]
