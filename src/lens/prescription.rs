@@ -319,9 +319,9 @@ mod tests {
         // Paraboloid (k = −1): z = r²/(2R), to f64 rounding.
         let parabola = surface(50.0, -1.0, vec![]).sag_mm(30.0).expect("a paraboloid has no edge");
         assert!((parabola - 9.0).abs() < 1e-14);
-        // Even asphere terms add α₁r² + α₂r⁴ to a flat surface: 2 · 0.01 + 16 · 0.001 = 0.036.
+        // Even asphere terms add α₁r² + α₂r⁴ to a flat surface: 4 · 0.01 + 16 · 0.001 = 0.056.
         let asphere = surface(0.0, 0.0, vec![0.01, 0.001]).sag_mm(2.0).expect("flat");
-        assert!((asphere - 0.036).abs() < 1e-15);
+        assert!((asphere - 0.056).abs() < 1e-15);
         // Beyond a sphere's edge there is no surface.
         assert!(close(surface(5.0, 0.0, vec![]).sag_mm(5.0), 5.0));
         assert_eq!(surface(5.0, 0.0, vec![]).sag_mm(5.000001), None);
