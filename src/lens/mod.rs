@@ -15,6 +15,11 @@
 //! - air has n = 1 exactly: catalogue indices are relative to air, as in glass makers' data
 //!   sheets and in the design codes the lenses are checked against.
 
+pub mod file;
+pub mod glass_spec;
+pub mod pbrt;
 pub mod prescription;
+pub mod zmx;
 
+pub use file::read_lens_file;
 pub use prescription::{LensError, LensSystem, Medium, Surface};
