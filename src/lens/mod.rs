@@ -15,6 +15,15 @@
 //! - air has n = 1 exactly: catalogue indices are relative to air, as in glass makers' data
 //!   sheets and in the design codes the lenses are checked against.
 
+pub mod fresnel_stack;
+pub mod paraxial;
 pub mod prescription;
+pub mod pupil;
+pub mod surface_geometry;
+pub mod trace;
 
+pub use fresnel_stack::{interface_fresnel, InterfaceFresnel, Mueller4};
+pub use paraxial::{Paraxial, LAMBDA_D_NM};
 pub use prescription::{LensError, LensSystem, Medium, Surface};
+pub use pupil::{ExitPupilBounds, Normalisation, PupilSample, RearDisc};
+pub use trace::{Blocked, LensSample, LensTracer, Ray, TraceOptions};
