@@ -16,10 +16,19 @@
 //!   sheets and in the design codes the lenses are checked against.
 
 pub mod file;
+pub mod fresnel_stack;
 pub mod glass_spec;
+pub mod paraxial;
 pub mod pbrt;
 pub mod prescription;
+pub mod pupil;
+pub mod surface_geometry;
+pub mod trace;
 pub mod zmx;
 
 pub use file::read_lens_file;
+pub use fresnel_stack::{interface_fresnel, InterfaceFresnel, Mueller4};
+pub use paraxial::{Paraxial, LAMBDA_D_NM};
 pub use prescription::{LensError, LensSystem, Medium, Surface};
+pub use pupil::{ExitPupilBounds, Normalisation, PupilSample, RearDisc};
+pub use trace::{Blocked, LensSample, LensTracer, Ray, TraceOptions};
