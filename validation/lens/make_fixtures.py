@@ -18,6 +18,7 @@ import json
 import math
 import platform
 import sys
+import tempfile
 import tomllib
 from importlib.metadata import version
 from pathlib import Path
@@ -54,6 +55,7 @@ LENSES = {
     "singlet_nbk7": 5.0,
     "achromat": 5.0,
     "dgauss50": 20.0,
+    "dgauss50_pbrt": 20.0,
 }
 
 
@@ -78,6 +80,8 @@ GLASSES = catalogue()
 def sellmeier(glass, lam_nm):
     if glass == "air":
         return 1.0
+    if glass.startswith("n="):  # one index at every wavelength (pbrt's own lens files)
+        return float(glass[2:])
     b, c = GLASSES[glass]
     l2 = (lam_nm * 1e-3) ** 2
     return math.sqrt(1.0 + sum(bi * l2 / (l2 - ci) for bi, ci in zip(b, c)))
@@ -157,16 +161,74 @@ def own_real_trace(surfaces, start, direction, lam_nm):
     return p[:2], d
 
 
+def normal_incidence_transmission(surfaces, lam_nm):
+    """Closed form Π(1 − R), R = ((n1 − n2)/(n1 + n2))², over every surface at normal
+    incidence (uncoated, no absorption, no multiple reflections)."""
+    t, n1 = 1.0, 1.0
+    for _c, _t, glass, _sd in surfaces:
+        n2 = sellmeier(glass, lam_nm)
+        t *= 1.0 - ((n1 - n2) / (n1 + n2)) ** 2
+        n1 = n2
+    return t
+
+
 def thick_lens_efl(r1, r2, t, n):
     """1/f = (n−1)[1/R1 − 1/R2 + (n−1)t/(n R1 R2)] (thick lens in air)."""
     return 1.0 / ((n - 1.0) * (1.0 / r1 - 1.0 / r2 + (n - 1.0) * t / (n * r1 * r2)))
 
 
 # ----------------------------------------------------------------------------------------
+# pbrt-v4's own double Gauss (one index per element): traced as pbrt sees it, with the image
+# plane at its paraxial focus (the same at every wavelength), through a .zmx written here.
+
+PBRT_DAT = {"dgauss50_pbrt": ROOT / "data" / "lenses" / "dgauss50_pbrt.dat"}
+PBRT_ZMX = {}
+
+
+def pbrt_rows(path):
+    rows = []
+    for line in path.read_text().splitlines():
+        line = line.split("#", 1)[0].split()
+        if line:
+            rows.append([float(v) for v in line[:4]])
+    return rows
+
+
+def write_pbrt_zmx(name, tmpdir):
+    rows = pbrt_rows(PBRT_DAT[name])
+    glass = ["air" if eta in (0.0, 1.0) else f"n={eta!r}" for _r, _t, eta, _a in rows]
+    surfaces = [(0.0 if r == 0 else 1.0 / r, t, g, a / 2) for (r, t, _e, a), g in zip(rows, glass)]
+    n = [1.0] + [sellmeier(g, LAMBDA_D_NM) for g in glass]
+    m = np.eye(2)
+    for j, (c, th, _g, _sd) in enumerate(surfaces):
+        if j > 0:
+            m = transfer(surfaces[j - 1][1], n[j]) @ m
+        m = refraction(c, n[j], n[j + 1]) @ m
+    image = float(-m[0, 0] / m[1, 0])
+    lines = ["UNIT MM", "WAVM 1 0.4861327 1", "WAVM 2 0.5875618 1", "WAVM 3 0.6562725 1",
+             "SURF 0", "  TYPE STANDARD", "  CURV 0", "  DISZ INFINITY"]
+    for i, ((r, th, eta, ap), g) in enumerate(zip(rows, glass), start=1):
+        th = image if i == len(rows) else th
+        lines += [f"SURF {i}"] + (["  STOP"] if r == 0.0 and eta == 0.0 else []) + [
+            "  TYPE STANDARD", f"  CURV {0.0 if r == 0 else 1.0 / r!r}", f"  DISZ {th!r}"]
+        if g != "air":
+            lines.append(f"  GLAS ___BLANK 1 0 {eta!r} 0")  # V_d = 0: a constant index
+        lines.append(f"  DIAM {ap / 2!r} 1")
+    lines += [f"SURF {len(rows) + 1}", "  TYPE STANDARD", "  CURV 0", "  DISZ 0"]
+    path = Path(tmpdir) / f"{name}.zmx"
+    path.write_text("\n".join(lines) + "\n")
+    PBRT_ZMX[name] = path
+
+
+# ----------------------------------------------------------------------------------------
 # rayoptics
 
+def zmx_path(name):
+    return PBRT_ZMX.get(name, ROOT / "data" / "lenses" / f"{name}.zmx")
+
+
 def load(name, finite_object_mm=None):
-    opm, info = open_model(ROOT / "data" / "lenses" / f"{name}.zmx", info=True)
+    opm, info = open_model(zmx_path(name), info=True)
     track, not_found = info
     assert not not_found and track.get("glass substituted", 0) == 0 and \
         track.get("glass not found", 0) == 0, (name, info)
@@ -184,7 +246,7 @@ def load(name, finite_object_mm=None):
 
 
 def _surface_blocks(name):
-    text = (ROOT / "data" / "lenses" / f"{name}.zmx").read_text()
+    text = zmx_path(name).read_text()
     blocks = text.split("SURF ")[2:-1]  # skip header+object, drop the image
     return blocks
 
@@ -193,14 +255,21 @@ def dat_vs_zmx(name, surfaces, stop_index):
     """Largest relative difference between the .dat file's numbers and the .zmx's as rayoptics
     read them (radius against 1/CURV, thickness, semi-diameter); glasses and stop must agree."""
     rows = []
-    for line in (ROOT / "data" / "lenses" / f"{name}.dat").read_text().splitlines():
+    dat = PBRT_DAT.get(name, ROOT / "data" / "lenses" / f"{name}.dat")
+    for line in dat.read_text().splitlines():
         line = line.split("#", 1)[0].split()
         if line:
             rows.append(line)
     assert len(rows) == len(surfaces), (name, len(rows), len(surfaces))
     worst = 0.0
     for i, (row, (cv, t, glass, sd)) in enumerate(zip(rows, surfaces)):
-        r, th, _eta, ap, g = float(row[0]), float(row[1]), float(row[2]), float(row[3]), row[4]
+        r, th, eta, ap = float(row[0]), float(row[1]), float(row[2]), float(row[3])
+        if len(row) > 4:
+            g = row[4]
+        else:  # pbrt's own file: eta 0 or 1 is air, otherwise one index at every wavelength
+            g = "air" if eta in (0.0, 1.0) else f"n={eta!r}"
+            if i == len(rows) - 1:
+                th = t  # pbrt leaves the image distance to its focusing (0 in the file)
         assert g == glass, (name, i, g, glass)
         assert (r == 0.0) == (i == stop_index or cv == 0.0)
         r_zmx = 0.0 if cv == 0.0 else 1.0 / cv
@@ -218,8 +287,14 @@ def surfaces_of(opm):
     for i in range(1, len(sm.ifcs) - 1):
         ifc, gap = sm.ifcs[i], sm.gaps[i]
         med = gap.medium
-        glass = "air" if type(med).__name__ == "Air" else med.name().replace(" ", "")
-        if glass != "air":
+        kind = type(med).__name__
+        if kind == "Air":
+            glass = "air"
+        elif kind == "ConstantIndex":
+            glass = f"n={med.n!r}"
+        else:
+            glass = med.name().replace(" ", "")
+        if glass != "air" and kind != "ConstantIndex":
             b, c = GLASSES[glass]
             assert list(med.coefs[0:3]) == b and list(med.coefs[3:6]) == c, (glass, med.coefs)
         out.append((ifc.profile.cv, gap.thi, glass, ifc.max_aperture))
@@ -339,6 +414,10 @@ def fixture(name, max_field_deg):
                 checks[f"paraxial_{key}_max_rel_residual"], abs(rel))
     for entry in paraxial:
         entry["focal_shift_mm"] = entry["paraxial_image_distance_mm"] - bfl_d
+    transmission = [
+        {"wavelength_nm": lam,
+         "normal_incidence_transmission": normal_incidence_transmission(surfaces, lam)}
+        for lam in WAVELENGTHS_NM]
     checks["image_plane_minus_paraxial_focus_d_mm"] = last_thickness - bfl_d
 
     # ---- real rays
@@ -412,7 +491,12 @@ def fixture(name, max_field_deg):
         })
     return {
         "lens": name,
-        "files": {"zmx": f"data/lenses/{name}.zmx", "dat": f"data/lenses/{name}.dat"},
+        "files": ({"dat": f"data/lenses/{name}.dat",
+                   "note": "no .zmx: make_fixtures.py writes a temporary one from the .dat, with "
+                           "GLAS ___BLANK (constant index) and the image plane at the paraxial "
+                           "d-line focus (pbrt's file has 0 there)"}
+                  if name in PBRT_DAT else
+                  {"zmx": f"data/lenses/{name}.zmx", "dat": f"data/lenses/{name}.dat"}),
         "provenance": {
             "tool": "rayoptics", "rayoptics_version": version("rayoptics"),
             "opticalglass_version": version("opticalglass"), "numpy_version": version("numpy"),
@@ -430,6 +514,13 @@ def fixture(name, max_field_deg):
         "wavelengths_nm": WAVELENGTHS_NM,
         "reference_wavelength_nm": LAMBDA_D_NM,
         "paraxial": paraxial,
+        "closed_form": {
+            "description": (
+                "not from rayoptics: on-axis transmission of the uncoated lens, product over "
+                "surfaces of 1 - ((n1 - n2)/(n1 + n2))^2 at normal incidence, Sellmeier indices "
+                "of data/glasses.toml, no absorption, no ghost (multiply reflected) light"),
+            "list": transmission,
+        },
         "rays": {
             "start_plane_z_mm": Z_START_MM,
             "entrance_pupil_radius_mm": enp_radius_d,
@@ -455,6 +546,9 @@ def fixture(name, max_field_deg):
 
 def main():
     OUT.mkdir(parents=True, exist_ok=True)
+    tmpdir = tempfile.mkdtemp(prefix="prisma-lens-")
+    for name in PBRT_DAT:
+        write_pbrt_zmx(name, tmpdir)
     for name, max_field in LENSES.items():
         data = fixture(name, max_field)
         path = OUT / f"{name}.json"
@@ -467,6 +561,8 @@ def main():
         for p in data["paraxial"]:
             print(f"  {p['wavelength_nm']:9.4f} nm: focus {p['paraxial_image_distance_mm']:.6f}"
                   f"  shift {p['focal_shift_mm']:+.6f} mm")
+        for tr in data["closed_form"]["list"]:
+            print(f"  T(normal) {tr['wavelength_nm']}: {tr['normal_incidence_transmission']:.6f}")
         for s in data["spots"]["list"]:
             print(f"  spot {s['wavelength_nm']:9.4f} nm field {s['field_fraction']}: rms "
                   f"{s['rms_radius_mm']*1e3:8.3f} µm, {s['rays_passing']}/{s['rays_in_pupil']} pass,"
