@@ -7,6 +7,7 @@ mod export;
 mod fresnel;
 mod glass;
 mod info;
+mod lens;
 mod merge;
 mod plot;
 mod polviz;
@@ -37,6 +38,8 @@ enum Command {
     Fresnel(fresnel::FresnelArgs),
     /// The glass catalogue: n_d, V_d and sources, n(λ) tables and plots.
     Glass(glass::GlassArgs),
+    /// A lens prescription's first-order optics, aberrations and illumination, printed and plotted.
+    Lens(lens::LensArgs),
     /// False-colour maps of a polarised render (DoLP, AoLP, S3/S0) with legends, as one PNG.
     Polviz(polviz::PolvizArgs),
     /// Compare prisma with Mitsuba 3 references and analytic answers (validation/cases.toml).
@@ -83,6 +86,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Some(Command::Export(args)) => export::run(&args),
         Some(Command::Fresnel(args)) => fresnel::run(&args),
         Some(Command::Glass(args)) => glass::run(&args),
+        Some(Command::Lens(args)) => lens::run(&args),
         Some(Command::Polviz(args)) => polviz::run(&args),
         Some(Command::Validate(args)) => validate::run(&args),
         Some(Command::BenchRays(args)) => bench::run(&args),

@@ -30,7 +30,8 @@ pub fn read_lens_file(path: &Path) -> Result<LensSystem, LensError> {
         )));
     }
     let text = decode_text(&bytes).map_err(system_error)?;
-    let is_zemax = path.extension().and_then(|ext| ext.to_str()).is_some_and(|ext| ext.eq_ignore_ascii_case("zmx"));
+    let is_zemax =
+        path.extension().and_then(|ext| ext.to_str()).is_some_and(|ext| ext.eq_ignore_ascii_case("zmx"));
     if is_zemax {
         zmx::parse_zmx(&text, path)
     } else {

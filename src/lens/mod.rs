@@ -15,6 +15,7 @@
 //! - air has n = 1 exactly: catalogue indices are relative to air, as in glass makers' data
 //!   sheets and in the design codes the lenses are checked against.
 
+pub mod analysis;
 pub mod file;
 pub mod fresnel_stack;
 pub mod glass_spec;

@@ -190,7 +190,9 @@ impl LensSystem {
             }
         };
         if self.surfaces.is_empty() {
-            return Err(error("no surfaces: a lens needs at least one surface and an aperture stop".to_owned()));
+            return Err(error(
+                "no surfaces: a lens needs at least one surface and an aperture stop".to_owned(),
+            ));
         }
         let stops: Vec<usize> = (0..self.surfaces.len()).filter(|&i| self.surfaces[i].is_stop).collect();
         match stops.as_slice() {

@@ -155,7 +155,9 @@ impl ExitPupilBounds {
                     }
                 }
             }
-            out.push(bounds.map(|b| [b[0] - 2.0 * cell, b[1] - 2.0 * cell, b[2] + 2.0 * cell, b[3] + 2.0 * cell]));
+            out.push(
+                bounds.map(|b| [b[0] - 2.0 * cell, b[1] - 2.0 * cell, b[2] + 2.0 * cell, b[3] + 2.0 * cell]),
+            );
         }
         Self { max_sensor_radius_mm, bands: out }
     }
@@ -169,8 +171,12 @@ impl ExitPupilBounds {
         let [x0, y0, x1, y1] = self.bands[band]?;
         let (x, y) = (x0 + (x1 - x0) * u[0], y0 + (y1 - y0) * u[1]);
         // Rotate from the +x axis to the sensor point's azimuth.
-        let (sin, cos) = if radius > 0.0 { (sensor_mm[1] / radius, sensor_mm[0] / radius) } else { (0.0, 1.0) };
-        Some(PupilSample { target_mm: [cos * x - sin * y, sin * x + cos * y], pdf_per_mm2: 1.0 / ((x1 - x0) * (y1 - y0)) })
+        let (sin, cos) =
+            if radius > 0.0 { (sensor_mm[1] / radius, sensor_mm[0] / radius) } else { (0.0, 1.0) };
+        Some(PupilSample {
+            target_mm: [cos * x - sin * y, sin * x + cos * y],
+            pdf_per_mm2: 1.0 / ((x1 - x0) * (y1 - y0)),
+        })
     }
 }
 
@@ -195,11 +201,17 @@ impl Normalisation {
         let disc = RearDisc::new(tracer);
         let delta = disc.sensor_distance_mm;
         let options = TraceOptions { fresnel: false, ..TraceOptions::new(lambda_nm) };
-        let passes = |rho: f64| tracer.trace_from_sensor([0.0, 0.0], [rho, 0.0], &options, &mut || 0.0).is_some();
+        let passes =
+            |rho: f64| tracer.trace_from_sensor([0.0, 0.0], [rho, 0.0], &options, &mut || 0.0).is_some();
         let radius = disc.radius_mm(0.0);
         let step = radius / NORMALISATION_STEPS as f64;
         // ∫ 2πρ Δ²/(Δ² + ρ²)² dρ = −πΔ²/(Δ² + ρ²): the projected solid angle of a ring.
-        let ring = |a: f64, b: f64| std::f64::consts::PI * delta * delta * (1.0 / (delta * delta + a * a) - 1.0 / (delta * delta + b * b));
+        let ring = |a: f64, b: f64| {
+            std::f64::consts::PI
+                * delta
+                * delta
+                * (1.0 / (delta * delta + a * a) - 1.0 / (delta * delta + b * b))
+        };
         let edge = |inside: f64, outside: f64| {
             let (mut inside, mut outside) = (inside, outside);
             while (outside - inside).abs() > 1e-12 * radius {
@@ -238,7 +250,8 @@ impl Normalisation {
     /// camera multiplies it by the lens's throughput and the scene radiance.
     pub fn sensor_weight(&self, sensor_mm: [f64; 2], sample: &PupilSample) -> f64 {
         let delta = self.sensor_distance_mm;
-        let offset = DVec3::new(sample.target_mm[0] - sensor_mm[0], sample.target_mm[1] - sensor_mm[1], -delta);
+        let offset =
+            DVec3::new(sample.target_mm[0] - sensor_mm[0], sample.target_mm[1] - sensor_mm[1], -delta);
         let cos_theta = delta / offset.length();
         cos_theta.powi(4) / (delta * delta * sample.pdf_per_mm2 * self.projected_solid_angle_sr)
     }
