@@ -20,8 +20,23 @@ use rand_pcg::Pcg64;
 const LAMBDA_F_NM: f64 = 486.1327;
 const LAMBDA_C_NM: f64 = 656.2725;
 
-fn surface(radius_mm: f64, thickness_mm: f64, medium: Medium, semi_diameter_mm: f64, is_stop: bool) -> Surface {
-    Surface { radius_mm, conic: 0.0, aspheric_mm: vec![], thickness_mm, medium, semi_diameter_mm, is_stop, line: 0 }
+fn surface(
+    radius_mm: f64,
+    thickness_mm: f64,
+    medium: Medium,
+    semi_diameter_mm: f64,
+    is_stop: bool,
+) -> Surface {
+    Surface {
+        radius_mm,
+        conic: 0.0,
+        aspheric_mm: vec![],
+        thickness_mm,
+        medium,
+        semi_diameter_mm,
+        is_stop,
+        line: 0,
+    }
 }
 
 fn catalogue(name: &str) -> Medium {
@@ -115,7 +130,10 @@ fn thin_singlet_focal_length_tends_to_the_lensmakers_formula() {
             let first_order = -(n - 1.0) * d / (n * r1 * r2 * (1.0 / r1 - 1.0 / r2));
             // The remainder is second order, (first_order)² (1.2e-9 at d = 1e-2), plus rounding.
             let remainder = f / f_thin - 1.0 - first_order;
-            assert!(remainder.abs() < 2.0 * first_order * first_order + 1e-14, "λ {lambda}, d {d}: {f} vs {f_thin}");
+            assert!(
+                remainder.abs() < 2.0 * first_order * first_order + 1e-14,
+                "λ {lambda}, d {d}: {f} vs {f_thin}"
+            );
         }
     }
 }
@@ -232,7 +250,8 @@ fn real_rays_converge_to_the_paraxial_focus() {
                 let traced = tracer.trace_from_object(ray, lambda).expect("passes");
                 axis_crossing(&traced.ray) - last_vertex - p.bfl_mm
             };
-            let coefficients: Vec<f64> = [0.1, 0.01, 0.001].iter().map(|f| aberration(f * semi) / (f * semi).powi(2)).collect();
+            let coefficients: Vec<f64> =
+                [0.1, 0.01, 0.001].iter().map(|f| aberration(f * semi) / (f * semi).powi(2)).collect();
             assert!(
                 (coefficients[1] / coefficients[2] - 1.0).abs() < 1e-3,
                 "{name} λ {lambda}: Δ/h² {coefficients:?}"
@@ -267,7 +286,9 @@ fn a_ray_through_the_stop_centre_is_the_chief_ray() {
     for theta in [1e-2_f64, 1e-3] {
         let dir = DVec3::new(0.0, theta.sin(), theta.cos());
         let stop_height = |y0: f64| {
-            let traced = tracer.trace_from_object(Ray { origin: DVec3::new(0.0, y0, -1.0), dir }, LAMBDA_D_NM).unwrap();
+            let traced = tracer
+                .trace_from_object(Ray { origin: DVec3::new(0.0, y0, -1.0), dir }, LAMBDA_D_NM)
+                .unwrap();
             let at_stop = traced.interactions.iter().find(|i| i.surface == stop).unwrap();
             (at_stop.point.y, traced.ray)
         };
@@ -307,10 +328,12 @@ fn refraction_obeys_snells_law_at_every_surface() {
     for lambda in [LAMBDA_F_NM, LAMBDA_D_NM, LAMBDA_C_NM] {
         for _ in 0..200 {
             let origin = DVec3::new(8.0 * (uniform(&mut rng) - 0.5), 8.0 * (uniform(&mut rng) - 0.5), -5.0);
-            let dir = DVec3::new(0.2 * (uniform(&mut rng) - 0.5), 0.2 * (uniform(&mut rng) - 0.5), 1.0).normalize();
+            let dir =
+                DVec3::new(0.2 * (uniform(&mut rng) - 0.5), 0.2 * (uniform(&mut rng) - 0.5), 1.0).normalize();
             let Ok(traced) = tracer.trace_from_object(Ray { origin, dir }, lambda) else { continue };
             for i in &traced.interactions {
-                let residual = (i.n_in * i.dir_in.cross(i.normal) - i.n_other * i.dir_out.cross(i.normal)).length();
+                let residual =
+                    (i.n_in * i.dir_in.cross(i.normal) - i.n_other * i.dir_out.cross(i.normal)).length();
                 assert!(residual < 4e-15 * i.n_in.max(i.n_other), "{i:?}: {residual}");
                 assert!(i.dir_in.cross(i.normal).dot(i.dir_out).abs() < 1e-15);
                 assert!((i.dir_out.length() - 1.0).abs() < 1e-15);
@@ -333,8 +356,14 @@ fn on_axis_transmission_of_an_uncoated_lens_is_the_product_of_one_minus_r() {
                 let (n, n_after) = (lens.medium_before(index).n_at_nm(lambda), s.medium.n_at_nm(lambda));
                 expected *= 1.0 - ((n - n_after) / (n + n_after)).powi(2);
             }
-            let sample = tracer.trace_from_sensor([0.0, 0.0], [0.0, 0.0], &TraceOptions::new(lambda), &mut || 0.5).unwrap();
-            assert!((sample.throughput - expected).abs() < 1e-14, "{name}: {} vs {expected}", sample.throughput);
+            let sample = tracer
+                .trace_from_sensor([0.0, 0.0], [0.0, 0.0], &TraceOptions::new(lambda), &mut || 0.5)
+                .unwrap();
+            assert!(
+                (sample.throughput - expected).abs() < 1e-14,
+                "{name}: {} vs {expected}",
+                sample.throughput
+            );
             // Unpolarised in, unpolarised out on the axis.
             let out = mueller_apply(&sample.mueller, [1.0, 0.0, 0.0, 0.0]);
             assert!(degree_of_linear_polarization(out) < 1e-14);
@@ -342,14 +371,20 @@ fn on_axis_transmission_of_an_uncoated_lens_is_the_product_of_one_minus_r() {
                 println!("{name}: on-axis transmission at d {expected:.4}");
             }
             let lossless = TraceOptions { fresnel: false, ..TraceOptions::new(lambda) };
-            assert_eq!(tracer.trace_from_sensor([0.0, 0.0], [0.0, 0.0], &lossless, &mut || 0.5).unwrap().throughput, 1.0);
+            assert_eq!(
+                tracer.trace_from_sensor([0.0, 0.0], [0.0, 0.0], &lossless, &mut || 0.5).unwrap().throughput,
+                1.0
+            );
         }
     }
 }
 
 /// A plane-parallel plate of index `n`, 5 mm thick, 20 mm in front of the sensor.
 fn plate(n: f64) -> LensSystem {
-    system(vec![surface(0.0, 5.0, Medium::constant(n), 100.0, true), surface(0.0, 20.0, Medium::Air, 100.0, false)])
+    system(vec![
+        surface(0.0, 5.0, Medium::constant(n), 100.0, true),
+        surface(0.0, 20.0, Medium::Air, 100.0, false),
+    ])
 }
 
 /// Hecht's angle forms (§4.6.3) of the power coefficients entering glass of index n at θi.
@@ -379,7 +414,9 @@ fn a_tilted_plate_polarises_unpolarised_light_as_fresnel_says() {
         let dolp = (t_s * t_s - t_p * t_p) / (t_s * t_s + t_p * t_p);
         let offset = 20.0 * theta.tan();
         for (target, sign) in [([-offset, 0.0], -1.0), ([0.0, -offset], 1.0)] {
-            let sample = tracer.trace_from_sensor([0.0, 0.0], target, &TraceOptions::new(LAMBDA_D_NM), &mut || 0.5).unwrap();
+            let sample = tracer
+                .trace_from_sensor([0.0, 0.0], target, &TraceOptions::new(LAMBDA_D_NM), &mut || 0.5)
+                .unwrap();
             let out = mueller_apply(&sample.mueller, [1.0, 0.0, 0.0, 0.0]);
             let context = format!("{degrees}°, target {target:?}: {out:?} vs S0 {s0}, DoLP {dolp}");
             assert!((out[0] - s0).abs() < 1e-13, "{context}");
@@ -469,7 +506,8 @@ fn exit_pupil_bounds_sample_the_same_irradiance_as_the_rear_disc_with_fewer_miss
     // their irradiances agree within noise (4.5 combined standard errors); at the centre an
     // ideal lossless lens reads 1 by the normalisation's definition. The shares of rays that
     // pass are printed (run with --nocapture).
-    let cases = [("singlet", singlet(), 10.0), ("doublet", doublet(), 12.0), ("double Gauss", double_gauss(), 21.6)];
+    let cases =
+        [("singlet", singlet(), 10.0), ("doublet", doublet(), 12.0), ("double Gauss", double_gauss(), 21.6)];
     let mut rng = Pcg64::seed_from_u64(4040);
     for (name, lens, half_diagonal) in cases {
         let tracer = LensTracer::new(&lens);
@@ -479,7 +517,9 @@ fn exit_pupil_bounds_sample_the_same_irradiance_as_the_rear_disc_with_fewer_miss
         for fraction in [0.0, 0.5, 1.0] {
             let sensor = [fraction * half_diagonal * 0.6, fraction * half_diagonal * 0.8];
             let (e_disc, err_disc, share_disc) =
-                irradiance(&tracer, &normalisation, sensor, 40_000, &mut rng, &|p, u| Some(disc.sample(p, u)));
+                irradiance(&tracer, &normalisation, sensor, 40_000, &mut rng, &|p, u| {
+                    Some(disc.sample(p, u))
+                });
             let (e_bounds, err_bounds, share_bounds) =
                 irradiance(&tracer, &normalisation, sensor, 40_000, &mut rng, &|p, u| bounds.sample(p, u));
             println!(
@@ -492,6 +532,10 @@ fn exit_pupil_bounds_sample_the_same_irradiance_as_the_rear_disc_with_fewer_miss
             assert!((e_disc - e_bounds).abs() < 4.5 * combined, "{name} at {fraction}");
             if fraction == 0.0 {
                 assert!((e_bounds - 1.0).abs() < 4.5 * err_bounds, "{name}: centre reads {e_bounds}");
+            }
+            // Off axis the double Gauss vignettes, and aiming at the rear disc wastes most rays.
+            if name == "double Gauss" && fraction > 0.0 {
+                assert!(share_bounds > share_disc + 0.1, "{name} at {fraction}");
             }
         }
     }
@@ -538,8 +582,12 @@ fn a_lens_of_index_one_images_like_a_pinhole_at_its_stop() {
         let mut passed = 0;
         for _ in 0..2000 {
             let Some(pupil) = bounds.sample(sensor, [uniform(&mut rng), uniform(&mut rng)]) else { continue };
-            let Some(sample) = tracer.trace_from_sensor(sensor, pupil.target_mm, &TraceOptions::new(LAMBDA_D_NM), &mut || 0.5)
-            else {
+            let Some(sample) = tracer.trace_from_sensor(
+                sensor,
+                pupil.target_mm,
+                &TraceOptions::new(LAMBDA_D_NM),
+                &mut || 0.5,
+            ) else {
                 continue;
             };
             passed += 1;
@@ -550,7 +598,8 @@ fn a_lens_of_index_one_images_like_a_pinhole_at_its_stop() {
             assert!((sample.dir - (target - origin).normalize()).length() < 1e-14, "straight on");
             assert!(sample.dir.angle_between(pinhole) <= (a / (origin.z - stop_z)).asin() * (1.0 + 1e-9));
             assert_eq!(sample.throughput, 1.0);
-            let identity = [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 0.0, 1.0]];
+            let identity =
+                [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 0.0, 1.0]];
             for (row, want) in sample.mueller.iter().zip(identity) {
                 for (got, want) in row.iter().zip(want) {
                     assert!((got - want).abs() < 1e-14, "{:?}", sample.mueller);
@@ -560,9 +609,13 @@ fn a_lens_of_index_one_images_like_a_pinhole_at_its_stop() {
         assert!(passed > 500, "{passed}");
         let h = sensor[0].hypot(sensor[1]);
         let expected = disc_irradiance(h, d, a) / disc_irradiance(0.0, d, a);
-        let (mean, error, _) = irradiance(&tracer, &normalisation, sensor, 40_000, &mut rng, &|p, u| bounds.sample(p, u));
+        let (mean, error, _) =
+            irradiance(&tracer, &normalisation, sensor, 40_000, &mut rng, &|p, u| bounds.sample(p, u));
         assert!((mean - expected).abs() < 4.5 * error, "h {h}: {mean} ± {error} vs {expected}");
         let cos_theta = d / (h * h + d * d).sqrt();
-        println!("pinhole at h = {h:.2} mm: E/E0 {mean:.4} ± {error:.4}, disc formula {expected:.4}, cos⁴ {:.4}", cos_theta.powi(4));
+        println!(
+            "pinhole at h = {h:.2} mm: E/E0 {mean:.4} ± {error:.4}, disc formula {expected:.4}, cos⁴ {:.4}",
+            cos_theta.powi(4)
+        );
     }
 }

@@ -25,5 +25,5 @@ pub mod trace;
 pub use fresnel_stack::{interface_fresnel, InterfaceFresnel, Mueller4};
 pub use paraxial::{Paraxial, LAMBDA_D_NM};
 pub use prescription::{LensError, LensSystem, Medium, Surface};
-pub use pupil::{ExitPupilBounds, Normalisation, PupilSample, RearDisc};
+pub use pupil::{ExitPupilBounds, Normalisation, PupilRegion, PupilSample, RearDisc};
 pub use trace::{Blocked, LensSample, LensTracer, Ray, TraceOptions};

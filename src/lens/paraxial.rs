@@ -194,7 +194,11 @@ impl LensSystem {
     /// `lambda_nm` minus the focus at the d line ([`LAMBDA_D_NM`]), for an object
     /// `object_distance_mm` in front of the first vertex (`f64::INFINITY`: the back focal
     /// lengths' difference).
-    pub fn chromatic_focal_shift_mm(&self, lambda_nm: f64, object_distance_mm: f64) -> Result<f64, LensError> {
+    pub fn chromatic_focal_shift_mm(
+        &self,
+        lambda_nm: f64,
+        object_distance_mm: f64,
+    ) -> Result<f64, LensError> {
         let at = self.paraxial_image_distance_mm(lambda_nm, object_distance_mm)?;
         let reference = self.paraxial_image_distance_mm(LAMBDA_D_NM, object_distance_mm)?;
         Ok(at - reference)
@@ -210,7 +214,9 @@ impl LensSystem {
     fn paraxial_image_distance_mm(&self, lambda_nm: f64, object_distance_mm: f64) -> Result<f64, LensError> {
         self.paraxial(lambda_nm)?.image_distance_mm(object_distance_mm).ok_or_else(|| LensError::System {
             file: self.source.display().to_string(),
-            message: format!("an object {object_distance_mm} mm away images at infinity (it is at the front focus)"),
+            message: format!(
+                "an object {object_distance_mm} mm away images at infinity (it is at the front focus)"
+            ),
         })
     }
 }

@@ -65,8 +65,12 @@ fn polynomial(alphas: &[f64], rho: f64) -> (f64, f64) {
 pub fn intersect(surface: &Surface, vertex_z_mm: f64, origin: DVec3, dir: DVec3, t_min: f64) -> Option<Hit> {
     let local = origin - DVec3::new(0.0, 0.0, vertex_z_mm);
     let conic_hit = intersect_conic(surface, local, dir, t_min)?;
-    let t = if surface.aspheric_mm.is_empty() { conic_hit } else { newton_asphere(surface, local, dir, conic_hit)? };
-    if !(t > t_min) || !t.is_finite() {
+    let t = if surface.aspheric_mm.is_empty() {
+        conic_hit
+    } else {
+        newton_asphere(surface, local, dir, conic_hit)?
+    };
+    if t.is_nan() || t <= t_min || t.is_infinite() {
         return None;
     }
     let point_local = local + t * dir;
@@ -235,7 +239,9 @@ mod tests {
         // A ray along the axis from far behind a sphere of radius 10 (centre at z = 10)
         // meets its vertex patch at z = 0, not the far pole at z = 20, from either side.
         let s = surface(10.0, 0.0, vec![]);
-        for (origin, dir) in [(DVec3::new(0.0, 0.0, -50.0), DVec3::Z), (DVec3::new(0.0, 0.0, 50.0), -DVec3::Z)] {
+        for (origin, dir) in
+            [(DVec3::new(0.0, 0.0, -50.0), DVec3::Z), (DVec3::new(0.0, 0.0, 50.0), -DVec3::Z)]
+        {
             let hit = intersect(&s, 0.0, origin, dir, 0.0).unwrap();
             assert!(hit.point.z.abs() < 1e-12, "{hit:?}");
         }

@@ -181,14 +181,16 @@ impl<'a> LensTracer<'a> {
     /// transmitted (no ghosts). The interactions carry the Fresnel coefficients.
     pub fn trace_from_object(&self, ray: Ray, lambda_nm: f64) -> Result<TracedRay, Blocked> {
         let mut interactions = Vec::with_capacity(self.system.surfaces.len());
-        let ray = self.walk(ray, Heading::ToImage, lambda_nm, 0, &mut || 0.0, &mut |i| interactions.push(*i))?;
+        let ray =
+            self.walk(ray, Heading::ToImage, lambda_nm, 0, &mut || 0.0, &mut |i| interactions.push(*i))?;
         Ok(TracedRay { ray, interactions })
     }
 
     /// Traces `ray` from the image side (toward −z) out to object space, always transmitted.
     pub fn trace_to_object(&self, ray: Ray, lambda_nm: f64) -> Result<TracedRay, Blocked> {
         let mut interactions = Vec::with_capacity(self.system.surfaces.len());
-        let ray = self.walk(ray, Heading::ToObject, lambda_nm, 0, &mut || 0.0, &mut |i| interactions.push(*i))?;
+        let ray =
+            self.walk(ray, Heading::ToObject, lambda_nm, 0, &mut || 0.0, &mut |i| interactions.push(*i))?;
         Ok(TracedRay { ray, interactions })
     }
 
