@@ -239,7 +239,7 @@ fn real_rays_converge_to_the_paraxial_focus() {
     // Δ vanishes as the aperture does. At h = 1e-3 of the pupil the f64 rounding of the trace
     // (~1e-13 mm in the height, amplified by BFL/h) is far below the 1e-6 relative asked.
     for (name, lens) in [("singlet", singlet()), ("doublet", doublet()), ("double Gauss", double_gauss())] {
-        let tracer = LensTracer::new(&lens);
+        let tracer = LensTracer::new(lens.clone());
         let last_vertex = tracer.rear_vertex_z_mm();
         let scale = lens.paraxial(LAMBDA_D_NM).unwrap().efl_mm;
         for lambda in [LAMBDA_F_NM, LAMBDA_D_NM, LAMBDA_C_NM] {
@@ -278,7 +278,7 @@ fn a_ray_through_the_stop_centre_is_the_chief_ray() {
     // space; for real rays that holds in the limit of small field angles (pupil aberration
     // is O(θ²)). Found by the secant method on its height at the first vertex.
     let lens = double_gauss();
-    let tracer = LensTracer::new(&lens);
+    let tracer = LensTracer::new(lens.clone());
     let stop = lens.stop_index().unwrap();
     let p = lens.paraxial(LAMBDA_D_NM).unwrap();
     let last_vertex = tracer.rear_vertex_z_mm();
@@ -322,7 +322,7 @@ fn refraction_obeys_snells_law_at_every_surface() {
     // The vector form of Snell's law: n (d × N) = n′ (d′ × N) (tangential momentum), d′ a unit
     // vector in the plane of d and N. Residuals at f64 rounding (1e-15 of n).
     let lens = doublet();
-    let tracer = LensTracer::new(&lens);
+    let tracer = LensTracer::new(lens.clone());
     let mut rng = Pcg64::seed_from_u64(7);
     let mut checked = 0;
     for lambda in [LAMBDA_F_NM, LAMBDA_D_NM, LAMBDA_C_NM] {
@@ -349,7 +349,7 @@ fn on_axis_transmission_of_an_uncoated_lens_is_the_product_of_one_minus_r() {
     // Along the axis every surface is met at normal incidence: T = Π(1 − ((n − n′)/(n + n′))²)
     // (Hecht §4.6.4), exactly (1e-14: a dozen roundings), ghosts off. With Fresnel off: 1.
     for (name, lens) in [("singlet", singlet()), ("doublet", doublet()), ("double Gauss", double_gauss())] {
-        let tracer = LensTracer::new(&lens);
+        let tracer = LensTracer::new(lens.clone());
         for lambda in [LAMBDA_F_NM, LAMBDA_D_NM, LAMBDA_C_NM] {
             let mut expected = 1.0;
             for (index, s) in lens.surfaces.iter().enumerate() {
@@ -405,7 +405,7 @@ fn a_tilted_plate_polarises_unpolarised_light_as_fresnel_says() {
     // along s (S1 = (T_s² − T_p²)/2 < 0). 1e-13: f64 rounding.
     let n = 1.5;
     let lens = plate(n);
-    let tracer = LensTracer::new(&lens);
+    let tracer = LensTracer::new(lens.clone());
     for degrees in [10.0_f64, 30.0, 56.31, 70.0] {
         let theta = degrees.to_radians();
         let (reflectance_s, reflectance_p) = hecht_power(theta, n);
@@ -440,7 +440,7 @@ fn the_ghost_estimator_sums_the_reflected_paths() {
     // 4.5 standard errors.
     let n = 3.0;
     let lens = plate(n);
-    let tracer = LensTracer::new(&lens);
+    let tracer = LensTracer::new(lens.clone());
     let mut rng = Pcg64::seed_from_u64(40);
     for degrees in [0.0_f64, 40.0] {
         let theta = degrees.to_radians();
@@ -510,7 +510,7 @@ fn exit_pupil_bounds_sample_the_same_irradiance_as_the_rear_disc_with_fewer_miss
         [("singlet", singlet(), 10.0), ("doublet", doublet(), 12.0), ("double Gauss", double_gauss(), 21.6)];
     let mut rng = Pcg64::seed_from_u64(4040);
     for (name, lens, half_diagonal) in cases {
-        let tracer = LensTracer::new(&lens);
+        let tracer = LensTracer::new(lens.clone());
         let normalisation = Normalisation::measure(&tracer, LAMBDA_D_NM);
         let disc = RearDisc::new(&tracer);
         let bounds = ExitPupilBounds::measure(&tracer, half_diagonal, 16, 64);
@@ -565,7 +565,7 @@ fn a_lens_of_index_one_images_like_a_pinhole_at_its_stop() {
     let a = 1.0;
     lens.surfaces[stop].semi_diameter_mm = a;
     lens.surfaces.last_mut().unwrap().thickness_mm = 40.0;
-    let tracer = LensTracer::new(&lens);
+    let tracer = LensTracer::new(lens.clone());
     let p = lens.paraxial(LAMBDA_D_NM);
     assert!(p.is_err(), "an index-1 lens has no power: {p:?}");
     let stop_z = tracer.vertex_z_mm[stop];
@@ -687,7 +687,7 @@ fn matches_the_rayoptics_fixtures() {
         let name = path.file_stem().unwrap().to_string_lossy().to_string();
         let lens = fixture_system(&fixture);
         assert_eq!(lens.stop_index(), Some(fixture["stop_index"].as_u64().unwrap() as usize));
-        let tracer = LensTracer::new(&lens);
+        let tracer = LensTracer::new(lens.clone());
         let scale = lens.paraxial(LAMBDA_D_NM).unwrap().efl_mm;
         for record in fixture["paraxial"].as_array().unwrap() {
             let lambda = number(record, "wavelength_nm");
@@ -792,7 +792,7 @@ fn total_internal_reflection_blocks_the_transmitted_branch() {
     // From glass of index 1.5 toward air, sin θc = 1/1.5 (θc = 41.81°): a ray at 45° cannot
     // leave; at 40° it leaves at asin(1.5 sin 40°) = 74.62° (Snell).
     let lens = system(vec![surface(0.0, 20.0, Medium::constant(1.5), 100.0, true)]);
-    let tracer = LensTracer::new(&lens);
+    let tracer = LensTracer::new(lens.clone());
     let from_sensor = |degrees: f64| {
         let theta = degrees.to_radians();
         Ray { origin: DVec3::new(0.0, 0.0, 20.0), dir: DVec3::new(theta.sin(), 0.0, -theta.cos()) }
@@ -809,4 +809,36 @@ fn total_internal_reflection_blocks_the_transmitted_branch() {
     let options = TraceOptions { max_ghost_reflections: 2, ..TraceOptions::new(LAMBDA_D_NM) };
     let target = [-20.0 * 45f64.to_radians().tan(), 0.0];
     assert!(tracer.trace_from_sensor([0.0, 0.0], target, &options, &mut || 0.999_999).is_none());
+}
+
+#[test]
+fn an_uncoated_lens_reads_darker_than_its_lossless_twin_by_its_transmission() {
+    // The camera's sampler: at the image centre a uniform radiance 1 reads 1 through the ideal
+    // lossless lens (the normalisation) and the Fresnel-weighted transmission averaged over the
+    // pupil through the uncoated lens: between the on-axis Π(1 − R) (normal incidence, the
+    // least loss) and ~1% below it (the marginal rays of an f/2 lens meet the surfaces at up
+    // to ~30°, where R grows by a few tenths of a percent per surface). 4.5 standard errors.
+    let lens = double_gauss();
+    let sampler = prisma::lens::SensorSampler::new(lens.clone(), 21.6, LAMBDA_D_NM);
+    let on_axis = sampler
+        .tracer
+        .trace_from_sensor([0.0, 0.0], [0.0, 0.0], &TraceOptions::new(LAMBDA_D_NM), &mut || 0.5)
+        .unwrap()
+        .throughput;
+    let mut rng = Pcg64::seed_from_u64(11);
+    for (fresnel, low, high) in [(false, 1.0, 1.0), (true, on_axis * 0.99, on_axis)] {
+        let options = TraceOptions { fresnel, ..TraceOptions::new(LAMBDA_D_NM) };
+        let weights: Vec<f64> = (0..40_000)
+            .map(|_| {
+                let u = [uniform(&mut rng), uniform(&mut rng)];
+                sampler.sample([0.0, 0.0], u, &options, &mut || 0.5).map_or(0.0, |ray| {
+                    assert_eq!(ray.weight, ray.sensor_weight * ray.sample.throughput);
+                    ray.weight
+                })
+            })
+            .collect();
+        let (mean, error) = mean_and_error(&weights);
+        println!("double Gauss centre, Fresnel {fresnel}: reads {mean:.4} ± {error:.4} (on-axis Π(1 − R) {on_axis:.4})");
+        assert!(mean > low - 4.5 * error && mean < high + 4.5 * error, "Fresnel {fresnel}: {mean} ± {error}");
+    }
 }

@@ -25,5 +25,7 @@ pub mod trace;
 pub use fresnel_stack::{interface_fresnel, InterfaceFresnel, Mueller4};
 pub use paraxial::{Paraxial, LAMBDA_D_NM};
 pub use prescription::{LensError, LensSystem, Medium, Surface};
-pub use pupil::{ExitPupilBounds, Normalisation, PupilRegion, PupilSample, RearDisc};
+pub use pupil::{
+    CameraRay, ExitPupilBounds, Normalisation, PupilRegion, PupilSample, RearDisc, SensorSampler,
+};
 pub use trace::{Blocked, LensSample, LensTracer, Ray, TraceOptions};

@@ -36,7 +36,8 @@ use glam::DVec3;
 
 use super::paraxial::LAMBDA_D_NM;
 use super::surface_geometry::sag;
-use super::trace::{LensTracer, TraceOptions};
+use super::trace::{LensSample, LensTracer, TraceOptions};
+use super::LensSystem;
 
 /// The wavelengths (nm) at which pupil bounds are measured: the ends of the visible range a
 /// spectral render samples and the d line.
@@ -300,5 +301,70 @@ impl Normalisation {
             DVec3::new(sample.target_mm[0] - sensor_mm[0], sample.target_mm[1] - sensor_mm[1], -delta);
         let cos_theta = delta / offset.length();
         cos_theta.powi(4) / (delta * delta * sample.pdf_per_mm2 * self.projected_solid_angle_sr)
+    }
+}
+
+/// A camera ray with its weight.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CameraRay {
+    /// The ray out of the lens and the lens's effect on the light along it.
+    pub sample: LensSample,
+    /// cos⁴θ/(Δ² pdf K) ([`Normalisation::sensor_weight`]): multiply the Mueller matrix
+    /// `sample.mueller` by it for the polarised image.
+    pub sensor_weight: f64,
+    /// `sensor_weight` × `sample.throughput`: what multiplies the scene radiance (unpolarised
+    /// light) to give the normalised sensor reading.
+    pub weight: f64,
+}
+
+/// Bands of sensor radius of [`SensorSampler::new`]'s exit-pupil bounds.
+pub const DEFAULT_PUPIL_BANDS: usize = 32;
+/// Test-ray grid per band of [`SensorSampler::new`]: 96² targets, the regions widened by two
+/// cells (1/24 of the rear disc's radius).
+pub const DEFAULT_PUPIL_GRID: usize = 96;
+
+/// What a lens camera needs to turn a sensor point and two uniform numbers into a weighted ray:
+/// the tracer, the exit-pupil bounds and the normalisation, measured once.
+#[derive(Clone, Debug)]
+pub struct SensorSampler {
+    /// The lens, prepared for tracing (its last thickness is the sensor distance).
+    pub tracer: LensTracer,
+    /// Where rays are aimed.
+    pub bounds: ExitPupilBounds,
+    /// The normalisation K.
+    pub normalisation: Normalisation,
+}
+
+impl SensorSampler {
+    /// Measures the bounds (for sensor points up to `sensor_half_diagonal_mm` off axis, with
+    /// [`DEFAULT_PUPIL_BANDS`] and [`DEFAULT_PUPIL_GRID`]) and the normalisation at
+    /// `reference_lambda_nm` (the focus wavelength) of `system`, focused as it is.
+    pub fn new(system: LensSystem, sensor_half_diagonal_mm: f64, reference_lambda_nm: f64) -> Self {
+        let tracer = LensTracer::new(system);
+        let bounds = ExitPupilBounds::measure(
+            &tracer,
+            sensor_half_diagonal_mm,
+            DEFAULT_PUPIL_BANDS,
+            DEFAULT_PUPIL_GRID,
+        );
+        let normalisation = Normalisation::measure(&tracer, reference_lambda_nm);
+        Self { tracer, bounds, normalisation }
+    }
+
+    /// The camera ray from `sensor_mm` (x, y on the sensor, mm, lens coordinates) aimed by the
+    /// uniform pair `u_pupil`, traced per `options` with `next_uniform` for ghost branches;
+    /// `None` when it does not reach the scene (its contribution is 0, and the estimator stays
+    /// unbiased: the pdf covers every passing ray).
+    pub fn sample(
+        &self,
+        sensor_mm: [f64; 2],
+        u_pupil: [f64; 2],
+        options: &TraceOptions,
+        next_uniform: &mut dyn FnMut() -> f64,
+    ) -> Option<CameraRay> {
+        let pupil = self.bounds.sample(sensor_mm, u_pupil)?;
+        let sample = self.tracer.trace_from_sensor(sensor_mm, pupil.target_mm, options, next_uniform)?;
+        let sensor_weight = self.normalisation.sensor_weight(sensor_mm, &pupil);
+        Some(CameraRay { sample, sensor_weight, weight: sensor_weight * sample.throughput })
     }
 }
