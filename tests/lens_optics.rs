@@ -239,7 +239,7 @@ fn real_rays_converge_to_the_paraxial_focus() {
     // Δ vanishes as the aperture does. At h = 1e-3 of the pupil the f64 rounding of the trace
     // (~1e-13 mm in the height, amplified by BFL/h) is far below the 1e-6 relative asked.
     for (name, lens) in [("singlet", singlet()), ("doublet", doublet()), ("double Gauss", double_gauss())] {
-        let tracer = LensTracer::new(&lens);
+        let tracer = LensTracer::new(lens.clone());
         let last_vertex = tracer.rear_vertex_z_mm();
         let scale = lens.paraxial(LAMBDA_D_NM).unwrap().efl_mm;
         for lambda in [LAMBDA_F_NM, LAMBDA_D_NM, LAMBDA_C_NM] {
@@ -278,7 +278,7 @@ fn a_ray_through_the_stop_centre_is_the_chief_ray() {
     // space; for real rays that holds in the limit of small field angles (pupil aberration
     // is O(θ²)). Found by the secant method on its height at the first vertex.
     let lens = double_gauss();
-    let tracer = LensTracer::new(&lens);
+    let tracer = LensTracer::new(lens.clone());
     let stop = lens.stop_index().unwrap();
     let p = lens.paraxial(LAMBDA_D_NM).unwrap();
     let last_vertex = tracer.rear_vertex_z_mm();
@@ -322,7 +322,7 @@ fn refraction_obeys_snells_law_at_every_surface() {
     // The vector form of Snell's law: n (d × N) = n′ (d′ × N) (tangential momentum), d′ a unit
     // vector in the plane of d and N. Residuals at f64 rounding (1e-15 of n).
     let lens = doublet();
-    let tracer = LensTracer::new(&lens);
+    let tracer = LensTracer::new(lens.clone());
     let mut rng = Pcg64::seed_from_u64(7);
     let mut checked = 0;
     for lambda in [LAMBDA_F_NM, LAMBDA_D_NM, LAMBDA_C_NM] {
@@ -349,7 +349,7 @@ fn on_axis_transmission_of_an_uncoated_lens_is_the_product_of_one_minus_r() {
     // Along the axis every surface is met at normal incidence: T = Π(1 − ((n − n′)/(n + n′))²)
     // (Hecht §4.6.4), exactly (1e-14: a dozen roundings), ghosts off. With Fresnel off: 1.
     for (name, lens) in [("singlet", singlet()), ("doublet", doublet()), ("double Gauss", double_gauss())] {
-        let tracer = LensTracer::new(&lens);
+        let tracer = LensTracer::new(lens.clone());
         for lambda in [LAMBDA_F_NM, LAMBDA_D_NM, LAMBDA_C_NM] {
             let mut expected = 1.0;
             for (index, s) in lens.surfaces.iter().enumerate() {
@@ -405,7 +405,7 @@ fn a_tilted_plate_polarises_unpolarised_light_as_fresnel_says() {
     // along s (S1 = (T_s² − T_p²)/2 < 0). 1e-13: f64 rounding.
     let n = 1.5;
     let lens = plate(n);
-    let tracer = LensTracer::new(&lens);
+    let tracer = LensTracer::new(lens.clone());
     for degrees in [10.0_f64, 30.0, 56.31, 70.0] {
         let theta = degrees.to_radians();
         let (reflectance_s, reflectance_p) = hecht_power(theta, n);
@@ -440,7 +440,7 @@ fn the_ghost_estimator_sums_the_reflected_paths() {
     // 4.5 standard errors.
     let n = 3.0;
     let lens = plate(n);
-    let tracer = LensTracer::new(&lens);
+    let tracer = LensTracer::new(lens.clone());
     let mut rng = Pcg64::seed_from_u64(40);
     for degrees in [0.0_f64, 40.0] {
         let theta = degrees.to_radians();
@@ -510,7 +510,7 @@ fn exit_pupil_bounds_sample_the_same_irradiance_as_the_rear_disc_with_fewer_miss
         [("singlet", singlet(), 10.0), ("doublet", doublet(), 12.0), ("double Gauss", double_gauss(), 21.6)];
     let mut rng = Pcg64::seed_from_u64(4040);
     for (name, lens, half_diagonal) in cases {
-        let tracer = LensTracer::new(&lens);
+        let tracer = LensTracer::new(lens.clone());
         let normalisation = Normalisation::measure(&tracer, LAMBDA_D_NM);
         let disc = RearDisc::new(&tracer);
         let bounds = ExitPupilBounds::measure(&tracer, half_diagonal, 16, 64);
@@ -532,6 +532,10 @@ fn exit_pupil_bounds_sample_the_same_irradiance_as_the_rear_disc_with_fewer_miss
             assert!((e_disc - e_bounds).abs() < 4.5 * combined, "{name} at {fraction}");
             if fraction == 0.0 {
                 assert!((e_bounds - 1.0).abs() < 4.5 * err_bounds, "{name}: centre reads {e_bounds}");
+            }
+            // Off axis the double Gauss vignettes, and aiming at the rear disc wastes most rays.
+            if name == "double Gauss" && fraction > 0.0 {
+                assert!(share_bounds > share_disc + 0.1, "{name} at {fraction}");
             }
         }
     }
@@ -561,7 +565,7 @@ fn a_lens_of_index_one_images_like_a_pinhole_at_its_stop() {
     let a = 1.0;
     lens.surfaces[stop].semi_diameter_mm = a;
     lens.surfaces.last_mut().unwrap().thickness_mm = 40.0;
-    let tracer = LensTracer::new(&lens);
+    let tracer = LensTracer::new(lens.clone());
     let p = lens.paraxial(LAMBDA_D_NM);
     assert!(p.is_err(), "an index-1 lens has no power: {p:?}");
     let stop_z = tracer.vertex_z_mm[stop];
@@ -613,5 +617,228 @@ fn a_lens_of_index_one_images_like_a_pinhole_at_its_stop() {
             "pinhole at h = {h:.2} mm: E/E0 {mean:.4} ± {error:.4}, disc formula {expected:.4}, cos⁴ {:.4}",
             cos_theta.powi(4)
         );
+    }
+}
+
+/// The lens system of a rayoptics fixture (`validation/lens/fixtures/NAME.json`, schema in
+/// `validation/lens/README.md`): glass names resolve through the catalogue, `n=X` is a constant
+/// index (pbrt's own file), `air` is air.
+fn fixture_system(fixture: &serde_json::Value) -> LensSystem {
+    let surfaces = fixture["surfaces"]
+        .as_array()
+        .expect("surfaces")
+        .iter()
+        .map(|s| {
+            let glass_name = s["glass"].as_str().expect("glass");
+            let medium = if glass_name == "air" {
+                Medium::Air
+            } else if let Some(n) = glass_name.strip_prefix("n=") {
+                Medium::constant(n.parse().expect("n=X"))
+            } else {
+                catalogue(glass_name)
+            };
+            surface(
+                s["radius_mm"].as_f64().expect("radius_mm"),
+                s["thickness_mm"].as_f64().expect("thickness_mm"),
+                medium,
+                s["semi_diameter_mm"].as_f64().expect("semi_diameter_mm"),
+                s["is_stop"].as_bool().expect("is_stop"),
+            )
+        })
+        .collect();
+    system(surfaces)
+}
+
+fn number(value: &serde_json::Value, key: &str) -> f64 {
+    value[key].as_f64().unwrap_or_else(|| panic!("{key} in {value}"))
+}
+
+fn pair(value: &serde_json::Value, key: &str) -> Vec<f64> {
+    value[key]
+        .as_array()
+        .unwrap_or_else(|| panic!("{key}"))
+        .iter()
+        .map(|v| v.as_f64().expect("number"))
+        .collect()
+}
+
+#[test]
+#[ignore = "needs the lensfix branch (validation/lens/fixtures/*.json and its glasses in data/glasses.toml); un-ignore once merged"]
+fn matches_the_rayoptics_fixtures() {
+    // rayoptics 0.9.8 (validation/lens/README.md): paraxial data per wavelength, real-ray
+    // image intercepts and exit directions, RMS spot radii over a fixed pupil grid, and the
+    // closed-form Π(1 − R). Tolerances, relative to the lens's scale (its EFL): 1e-12 for the
+    // matrix quantities (both are f64 y–nu traces; the fixtures' own independent recheck
+    // agrees to 2e-15); 1e-7 for pupil positions and the exit pupil's diameter (rayoptics
+    // starts its chief ray on an object plane 1e10 mm away: up to 1e-7 of cancellation, the
+    // fixtures' `checks`); 1e-11 for real rays (the
+    // fixtures' recheck agrees to 4e-14 mm; the issue asks 1e-6).
+    let directory = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("validation/lens/fixtures");
+    let mut files: Vec<_> = std::fs::read_dir(&directory)
+        .expect("validation/lens/fixtures")
+        .map(|entry| entry.expect("entry").path())
+        .filter(|path| path.extension().is_some_and(|e| e == "json"))
+        .collect();
+    files.sort();
+    assert!(files.len() >= 4, "{files:?}");
+    for path in files {
+        let text = std::fs::read_to_string(&path).expect("fixture");
+        let fixture: serde_json::Value = serde_json::from_str(&text).expect("JSON");
+        let name = path.file_stem().unwrap().to_string_lossy().to_string();
+        let lens = fixture_system(&fixture);
+        assert_eq!(lens.stop_index(), Some(fixture["stop_index"].as_u64().unwrap() as usize));
+        let tracer = LensTracer::new(lens.clone());
+        let scale = lens.paraxial(LAMBDA_D_NM).unwrap().efl_mm;
+        for record in fixture["paraxial"].as_array().unwrap() {
+            let lambda = number(record, "wavelength_nm");
+            let p = lens.paraxial(lambda).unwrap();
+            let shift = lens.chromatic_focal_shift_mm(lambda, f64::INFINITY).unwrap();
+            let checks = [
+                ("efl_mm", p.efl_mm, 1e-12),
+                ("bfl_mm", p.bfl_mm, 1e-12),
+                ("ffl_mm", -p.ffl_mm, 1e-12),
+                ("entrance_pupil_z_mm", p.entrance_pupil_z_mm, 1e-7),
+                ("entrance_pupil_diameter_mm", p.entrance_pupil_diameter_mm, 1e-12),
+                ("exit_pupil_z_from_last_mm", p.exit_pupil_z_mm, 1e-7),
+                ("exit_pupil_diameter_mm", p.exit_pupil_diameter_mm, 1e-7),
+                ("f_number", p.f_number * scale, 1e-12),
+                ("paraxial_image_distance_mm", p.image_distance_mm(f64::INFINITY).unwrap(), 1e-12),
+                ("focal_shift_mm", shift, 1e-12),
+            ];
+            for (key, got, tolerance) in checks {
+                let want = if key == "f_number" { number(record, key) * scale } else { number(record, key) };
+                assert!((got - want).abs() <= tolerance * scale, "{name} λ {lambda}: {key} {got} vs {want}");
+            }
+        }
+        for record in fixture["closed_form"]["list"].as_array().unwrap() {
+            let lambda = number(record, "wavelength_nm");
+            let sample = tracer
+                .trace_from_sensor([0.0, 0.0], [0.0, 0.0], &TraceOptions::new(lambda), &mut || 0.5)
+                .unwrap();
+            let want = number(record, "normal_incidence_transmission");
+            assert!(
+                (sample.throughput - want).abs() < 1e-14,
+                "{name} λ {lambda}: {} vs {want}",
+                sample.throughput
+            );
+        }
+        let trace = |start: &[f64], direction: &[f64], lambda: f64| {
+            let ray = Ray {
+                origin: DVec3::new(start[0], start[1], start[2]),
+                dir: DVec3::new(direction[0], direction[1], direction[2]),
+            };
+            tracer.trace_from_object(ray, lambda)
+        };
+        for record in fixture["rays"]["list"].as_array().unwrap() {
+            let lambda = number(record, "wavelength_nm");
+            let traced = trace(&pair(record, "start_mm"), &pair(record, "direction"), lambda);
+            let context = format!("{name}: {record}");
+            // Marginal rays aimed exactly at the stop's rim pass or not by rounding (margins of
+            // ±2e-15 mm in the fixtures); their intercepts are compared when they pass here.
+            let on_rim = number(record, "min_aperture_margin_mm").abs() < 1e-9;
+            let traced = match traced {
+                Ok(traced) => traced,
+                Err(_) if on_rim => continue,
+                Err(blocked) => {
+                    assert!(!record["passes_apertures"].as_bool().unwrap(), "{context}: {blocked:?}");
+                    continue;
+                }
+            };
+            assert!(on_rim || record["passes_apertures"].as_bool().unwrap(), "{context}: passes here");
+            let image = pair(record, "image_mm");
+            let exit = pair(record, "exit_direction");
+            assert!((traced.ray.origin.x - image[0]).abs() < 1e-11 * scale, "{context}: {:?}", traced.ray);
+            assert!((traced.ray.origin.y - image[1]).abs() < 1e-11 * scale, "{context}: {:?}", traced.ray);
+            let exit = DVec3::new(exit[0], exit[1], exit[2]);
+            assert!((traced.ray.dir - exit).length() < 1e-12, "{context}: {:?}", traced.ray);
+        }
+        let n = fixture["spots"]["grid"]["n"].as_u64().unwrap() as usize;
+        let radius = number(&fixture["rays"], "entrance_pupil_radius_mm");
+        let start_z = number(&fixture["rays"], "start_plane_z_mm");
+        for record in fixture["spots"]["list"].as_array().unwrap() {
+            let lambda = number(record, "wavelength_nm");
+            let theta = number(record, "field_angle_deg").to_radians();
+            let chief_y = number(record, "chief_start_y_mm");
+            let mut points = vec![];
+            for i in 0..n {
+                for j in 0..n {
+                    let px = -1.0 + (i as f64 + 0.5) * 2.0 / n as f64;
+                    let py = -1.0 + (j as f64 + 0.5) * 2.0 / n as f64;
+                    if px * px + py * py > 1.0 {
+                        continue;
+                    }
+                    let start = [px * radius, chief_y + py * radius, start_z];
+                    if let Ok(traced) = trace(&start, &[0.0, theta.sin(), theta.cos()], lambda) {
+                        points.push(traced.ray.origin);
+                    }
+                }
+            }
+            let context = format!("{name} λ {lambda}, field {}", number(record, "field_fraction"));
+            assert_eq!(points.len() as u64, record["rays_passing"].as_u64().unwrap(), "{context}");
+            let centroid = points.iter().fold(DVec3::ZERO, |sum, p| sum + *p) / points.len() as f64;
+            let rms =
+                (points.iter().map(|p| (p.x - centroid.x).powi(2) + (p.y - centroid.y).powi(2)).sum::<f64>()
+                    / points.len() as f64)
+                    .sqrt();
+            let want = number(record, "rms_radius_mm");
+            assert!((rms / want - 1.0).abs() < 1e-9, "{context}: RMS {rms} vs {want}");
+        }
+        println!("{name}: matches rayoptics");
+    }
+}
+
+#[test]
+fn total_internal_reflection_blocks_the_transmitted_branch() {
+    // From glass of index 1.5 toward air, sin θc = 1/1.5 (θc = 41.81°): a ray at 45° cannot
+    // leave; at 40° it leaves at asin(1.5 sin 40°) = 74.62° (Snell).
+    let lens = system(vec![surface(0.0, 20.0, Medium::constant(1.5), 100.0, true)]);
+    let tracer = LensTracer::new(lens.clone());
+    let from_sensor = |degrees: f64| {
+        let theta = degrees.to_radians();
+        Ray { origin: DVec3::new(0.0, 0.0, 20.0), dir: DVec3::new(theta.sin(), 0.0, -theta.cos()) }
+    };
+    assert_eq!(
+        tracer.trace_to_object(from_sensor(45.0), LAMBDA_D_NM),
+        Err(prisma::lens::Blocked::TotalInternalReflection(0))
+    );
+    let out = tracer.trace_to_object(from_sensor(40.0), LAMBDA_D_NM).unwrap();
+    let expected = (1.5 * 40f64.to_radians().sin()).asin();
+    assert!((out.ray.dir.x.asin() - expected).abs() < 1e-14, "{:?}", out.ray);
+    // Under total internal reflection R = 1: a ghost budget makes the ray reflect, back to the
+    // sensor (no scene light), with no random number deciding it otherwise.
+    let options = TraceOptions { max_ghost_reflections: 2, ..TraceOptions::new(LAMBDA_D_NM) };
+    let target = [-20.0 * 45f64.to_radians().tan(), 0.0];
+    assert!(tracer.trace_from_sensor([0.0, 0.0], target, &options, &mut || 0.999_999).is_none());
+}
+
+#[test]
+fn an_uncoated_lens_reads_darker_than_its_lossless_twin_by_its_transmission() {
+    // The camera's sampler: at the image centre a uniform radiance 1 reads 1 through the ideal
+    // lossless lens (the normalisation) and the Fresnel-weighted transmission averaged over the
+    // pupil through the uncoated lens: between the on-axis Π(1 − R) (normal incidence, the
+    // least loss) and ~1% below it (the marginal rays of an f/2 lens meet the surfaces at up
+    // to ~30°, where R grows by a few tenths of a percent per surface). 4.5 standard errors.
+    let lens = double_gauss();
+    let sampler = prisma::lens::SensorSampler::new(lens.clone(), 21.6, LAMBDA_D_NM);
+    let on_axis = sampler
+        .tracer
+        .trace_from_sensor([0.0, 0.0], [0.0, 0.0], &TraceOptions::new(LAMBDA_D_NM), &mut || 0.5)
+        .unwrap()
+        .throughput;
+    let mut rng = Pcg64::seed_from_u64(11);
+    for (fresnel, low, high) in [(false, 1.0, 1.0), (true, on_axis * 0.99, on_axis)] {
+        let options = TraceOptions { fresnel, ..TraceOptions::new(LAMBDA_D_NM) };
+        let weights: Vec<f64> = (0..40_000)
+            .map(|_| {
+                let u = [uniform(&mut rng), uniform(&mut rng)];
+                sampler.sample([0.0, 0.0], u, &options, &mut || 0.5).map_or(0.0, |ray| {
+                    assert_eq!(ray.weight, ray.sensor_weight * ray.sample.throughput);
+                    ray.weight
+                })
+            })
+            .collect();
+        let (mean, error) = mean_and_error(&weights);
+        println!("double Gauss centre, Fresnel {fresnel}: reads {mean:.4} ± {error:.4} (on-axis Π(1 − R) {on_axis:.4})");
+        assert!(mean > low - 4.5 * error && mean < high + 4.5 * error, "Fresnel {fresnel}: {mean} ± {error}");
     }
 }

@@ -70,18 +70,18 @@ pub struct Illumination {
 }
 
 /// A lens prepared for analysis: tracer, the d-line entrance pupil, the start plane.
-pub struct Analysis<'a> {
-    tracer: LensTracer<'a>,
+pub struct Analysis {
+    tracer: LensTracer,
     /// The surfaces up to the stop, apertures open: what the chief ray is aimed through.
-    to_stop: LensSystem,
+    to_stop: LensTracer,
     entrance_pupil_z_mm: f64,
     entrance_pupil_radius_mm: f64,
     start_z_mm: f64,
 }
 
-impl<'a> Analysis<'a> {
+impl Analysis {
     /// Prepares `system` (its image plane where its last thickness puts it).
-    pub fn new(system: &'a LensSystem) -> Result<Self, LensError> {
+    pub fn new(system: &LensSystem) -> Result<Self, LensError> {
         let paraxial = system.paraxial(LAMBDA_D_NM)?;
         // In front of the first surface's whole clear aperture, however it bulges.
         let first = &system.surfaces[0];
@@ -96,8 +96,8 @@ impl<'a> Analysis<'a> {
             surface.semi_diameter_mm = f64::INFINITY;
         }
         Ok(Self {
-            tracer: LensTracer::new(system),
-            to_stop,
+            tracer: LensTracer::new(system.clone()),
+            to_stop: LensTracer::new(to_stop),
             entrance_pupil_z_mm: paraxial.entrance_pupil_z_mm,
             entrance_pupil_radius_mm: 0.5 * paraxial.entrance_pupil_diameter_mm,
             start_z_mm,
@@ -105,7 +105,7 @@ impl<'a> Analysis<'a> {
     }
 
     /// The tracer.
-    pub fn tracer(&self) -> &LensTracer<'a> {
+    pub fn tracer(&self) -> &LensTracer {
         &self.tracer
     }
 
@@ -127,7 +127,7 @@ impl<'a> Analysis<'a> {
         if field_deg == 0.0 {
             return Some(0.0);
         }
-        let to_stop = LensTracer::new(&self.to_stop);
+        let to_stop = &self.to_stop;
         let stop_y = |y: f64| -> Option<f64> {
             let traced = to_stop.trace_from_object(self.ray(field_deg, 0.0, y), lambda_nm).ok()?;
             Some(traced.interactions.last()?.point.y)

@@ -254,7 +254,7 @@ mod tests {
                 let context = format!("{n_i}→{n_t}, cos θi {cos_i}: {f:?} vs {amplitudes:?}");
                 // Away from the critical angle: |cos θt| > 0.1 (real) or > 0.2 (imaginary).
                 let cos_t_sqr = 1.0 - (1.0 - cos_i * cos_i) * (n_i / n_t).powi(2);
-                if cos_t_sqr > 0.01 || cos_t_sqr < -0.04 {
+                if !(-0.04..=0.01).contains(&cos_t_sqr) {
                     assert!((f.reflectance() - f64::from(reference.reflectance)).abs() < 3e-6, "{context}");
                     for (ours, theirs) in [
                         (f.r_s, amplitudes.r_s),

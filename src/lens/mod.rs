@@ -14,6 +14,11 @@
 //! - a surface's medium is the one behind it (on its image side); object space is air;
 //! - air has n = 1 exactly: catalogue indices are relative to air, as in glass makers' data
 //!   sheets and in the design codes the lenses are checked against.
+//!
+//! Modules: [`prescription`] (the types), [`paraxial`] (first-order data per wavelength),
+//! [`surface_geometry`] (sag, ray–surface hits, normals), [`fresnel_stack`] (f64 Fresnel and
+//! path Mueller matrices), [`trace`] (real rays both ways, ghost branches), [`pupil`] (aiming
+//! camera rays and the radiometric weight).
 
 pub mod analysis;
 pub mod file;
@@ -31,5 +36,7 @@ pub use file::read_lens_file;
 pub use fresnel_stack::{interface_fresnel, InterfaceFresnel, Mueller4};
 pub use paraxial::{Paraxial, LAMBDA_D_NM};
 pub use prescription::{LensError, LensSystem, Medium, Surface};
-pub use pupil::{ExitPupilBounds, Normalisation, PupilSample, RearDisc};
+pub use pupil::{
+    CameraRay, ExitPupilBounds, Normalisation, PupilRegion, PupilSample, RearDisc, SensorSampler,
+};
 pub use trace::{Blocked, LensSample, LensTracer, Ray, TraceOptions};

@@ -71,7 +71,7 @@ pub struct Paraxial {
     /// last vertex, −n′A/C (positive when the focus lies behind the last surface).
     pub bfl_mm: f64,
     /// Front focal length (mm): the distance from the front focal point to the first vertex,
-    /// D/C·(−1) (positive when the front focus lies in front of the lens, as for a converging
+    /// −D/C (positive when the front focus lies in front of the lens, as for a converging
     /// lens). The front focal point's z is −`ffl_mm`.
     pub ffl_mm: f64,
     /// Entrance pupil: the paraxial image of the stop through the surfaces in front of it, as

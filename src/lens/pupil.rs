@@ -28,14 +28,16 @@
 //!   the rear-plane points whose rays pass, found from a grid of test rays (at the shortest,
 //!   the reference and the longest wavelength, so that dispersion cannot move the pupil out of
 //!   it) and widened by two grid cells; drawn uniformly after rotating it to the sensor
-//!   point's azimuth. A region of passing rays thinner than the widening could be missed (the
+//!   point's azimuth. Where the disc about the rectangle's centre that holds the same points
+//!   is smaller (round pupils, near the axis) it is drawn from instead. A region of passing rays thinner than the widening could be missed (the
 //!   one approximation, as in pbrt); the tests check the irradiance against the disc's.
 
 use glam::DVec3;
 
 use super::paraxial::LAMBDA_D_NM;
 use super::surface_geometry::sag;
-use super::trace::{LensTracer, TraceOptions};
+use super::trace::{LensSample, LensTracer, TraceOptions};
+use super::LensSystem;
 
 /// The wavelengths (nm) at which pupil bounds are measured: the ends of the visible range a
 /// spectral render samples and the d line.
@@ -114,21 +116,54 @@ impl RearDisc {
     }
 }
 
-/// pbrt-v4's exit-pupil bounds: per band of sensor radius, a rectangle of the rear vertex plane
-/// (for sensor points on the +x axis) outside which no ray passes.
+/// The region of the rear vertex plane a band's camera rays are drawn from (for sensor points
+/// on the +x axis; turned to the point's azimuth when drawn).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum PupilRegion {
+    /// The rectangle (x_min, y_min, x_max, y_max), mm: pbrt's bounds.
+    Rectangle([f64; 4]),
+    /// The disc of centre (x, y) and radius r, mm: tighter than the rectangle for round pupils
+    /// (on and near the axis), where the rectangle wastes 1 − π/4 of its rays.
+    Disc([f64; 3]),
+}
+
+impl PupilRegion {
+    /// Its area (mm²).
+    pub fn area_mm2(&self) -> f64 {
+        match *self {
+            PupilRegion::Rectangle([x0, y0, x1, y1]) => (x1 - x0) * (y1 - y0),
+            PupilRegion::Disc([_, _, r]) => std::f64::consts::PI * r * r,
+        }
+    }
+
+    /// A uniform point of it from the uniform pair `u`.
+    fn point(&self, u: [f64; 2]) -> [f64; 2] {
+        match *self {
+            PupilRegion::Rectangle([x0, y0, x1, y1]) => [x0 + (x1 - x0) * u[0], y0 + (y1 - y0) * u[1]],
+            PupilRegion::Disc([x, y, r]) => {
+                let (radius, phi) = (r * u[0].sqrt(), 2.0 * std::f64::consts::PI * u[1]);
+                [x + radius * phi.cos(), y + radius * phi.sin()]
+            }
+        }
+    }
+}
+
+/// pbrt-v4's exit-pupil bounds: per band of sensor radius, a region of the rear vertex plane
+/// (for sensor points on the +x axis) outside which no ray passes: pbrt's bounding rectangle,
+/// or the bounding disc about its centre when that is smaller.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ExitPupilBounds {
     /// The largest sensor radius covered (mm); farther points use the last band.
     pub max_sensor_radius_mm: f64,
-    /// Per band [i·r/n, (i+1)·r/n]: (x_min, y_min, x_max, y_max) in mm, or `None` when no test
-    /// ray passed.
-    pub bands: Vec<Option<[f64; 4]>>,
+    /// Per band [i·r/n, (i+1)·r/n], its region, or `None` when no test ray passed.
+    pub bands: Vec<Option<PupilRegion>>,
 }
 
 impl ExitPupilBounds {
     /// Measures the bounds for sensor radii up to `max_sensor_radius_mm` in `bands` bands, with
     /// `grid`² test targets (over the square of side 2·[`RearDisc::radius_mm`]) and `grid`
-    /// sensor radii spread over each band, at [`PUPIL_WAVELENGTHS_NM`], Fresnel off.
+    /// sensor radii spread over each band, at [`PUPIL_WAVELENGTHS_NM`], Fresnel off. Each
+    /// region is widened by two grid cells.
     pub fn measure(tracer: &LensTracer, max_sensor_radius_mm: f64, bands: usize, grid: usize) -> Self {
         let disc = RearDisc::new(tracer);
         let mut out = Vec::with_capacity(bands);
@@ -137,12 +172,12 @@ impl ExitPupilBounds {
             let r1 = max_sensor_radius_mm * (band + 1) as f64 / bands as f64;
             let half = disc.radius_mm(r1);
             let cell = 2.0 * half / grid as f64;
-            let mut bounds: Option<[f64; 4]> = None;
+            let mut passing = Vec::new();
             for i in 0..grid {
                 let x = -half + (i as f64 + 0.5) * cell;
                 for j in 0..grid {
                     let y = -half + (j as f64 + 0.5) * cell;
-                    // The sensor radius runs through the band along the grid's diagonal
+                    // The sensor radius runs through the band along the grid's diagonals
                     // (stratified: each target row meets every part of the band).
                     let sensor = r0 + (r1 - r0) * (((i + j) % grid) as f64 + 0.5) / grid as f64;
                     let passes = PUPIL_WAVELENGTHS_NM.iter().any(|&lambda_nm| {
@@ -150,34 +185,46 @@ impl ExitPupilBounds {
                         tracer.trace_from_sensor([sensor, 0.0], [x, y], &options, &mut || 0.0).is_some()
                     });
                     if passes {
-                        let b = bounds.get_or_insert([x, y, x, y]);
-                        *b = [b[0].min(x), b[1].min(y), b[2].max(x), b[3].max(y)];
+                        passing.push([x, y]);
                     }
                 }
             }
-            out.push(
-                bounds.map(|b| [b[0] - 2.0 * cell, b[1] - 2.0 * cell, b[2] + 2.0 * cell, b[3] + 2.0 * cell]),
-            );
+            out.push(bounding_region(&passing, 2.0 * cell));
         }
         Self { max_sensor_radius_mm, bands: out }
     }
 
     /// A target for the sensor point `sensor_mm` from the uniform pair `u`: uniform in the
-    /// band's rectangle turned to the point's azimuth; `None` when no ray of that band passes.
+    /// band's region turned to the point's azimuth; `None` when no ray of that band passes.
     pub fn sample(&self, sensor_mm: [f64; 2], u: [f64; 2]) -> Option<PupilSample> {
         let radius = sensor_mm[0].hypot(sensor_mm[1]);
         let bands = self.bands.len();
         let band = ((radius / self.max_sensor_radius_mm * bands as f64) as usize).min(bands - 1);
-        let [x0, y0, x1, y1] = self.bands[band]?;
-        let (x, y) = (x0 + (x1 - x0) * u[0], y0 + (y1 - y0) * u[1]);
+        let region = self.bands[band]?;
+        let [x, y] = region.point(u);
         // Rotate from the +x axis to the sensor point's azimuth.
         let (sin, cos) =
             if radius > 0.0 { (sensor_mm[1] / radius, sensor_mm[0] / radius) } else { (0.0, 1.0) };
         Some(PupilSample {
             target_mm: [cos * x - sin * y, sin * x + cos * y],
-            pdf_per_mm2: 1.0 / ((x1 - x0) * (y1 - y0)),
+            pdf_per_mm2: 1.0 / region.area_mm2(),
         })
     }
+}
+
+/// The smaller of the bounding rectangle and the bounding disc about its centre of `points`,
+/// widened by `margin` (mm); `None` for no points.
+fn bounding_region(points: &[[f64; 2]], margin: f64) -> Option<PupilRegion> {
+    let first = points.first()?;
+    let mut b = [first[0], first[1], first[0], first[1]];
+    for p in points {
+        b = [b[0].min(p[0]), b[1].min(p[1]), b[2].max(p[0]), b[3].max(p[1])];
+    }
+    let rectangle = PupilRegion::Rectangle([b[0] - margin, b[1] - margin, b[2] + margin, b[3] + margin]);
+    let centre = [0.5 * (b[0] + b[2]), 0.5 * (b[1] + b[3])];
+    let reach = points.iter().map(|p| (p[0] - centre[0]).hypot(p[1] - centre[1])).fold(0.0, f64::max);
+    let disc = PupilRegion::Disc([centre[0], centre[1], reach + margin]);
+    Some(if disc.area_mm2() < rectangle.area_mm2() { disc } else { rectangle })
 }
 
 /// The normalisation K of the sensor weight (see the module header).
@@ -254,5 +301,70 @@ impl Normalisation {
             DVec3::new(sample.target_mm[0] - sensor_mm[0], sample.target_mm[1] - sensor_mm[1], -delta);
         let cos_theta = delta / offset.length();
         cos_theta.powi(4) / (delta * delta * sample.pdf_per_mm2 * self.projected_solid_angle_sr)
+    }
+}
+
+/// A camera ray with its weight.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CameraRay {
+    /// The ray out of the lens and the lens's effect on the light along it.
+    pub sample: LensSample,
+    /// cos⁴θ/(Δ² pdf K) ([`Normalisation::sensor_weight`]): multiply the Mueller matrix
+    /// `sample.mueller` by it for the polarised image.
+    pub sensor_weight: f64,
+    /// `sensor_weight` × `sample.throughput`: what multiplies the scene radiance (unpolarised
+    /// light) to give the normalised sensor reading.
+    pub weight: f64,
+}
+
+/// Bands of sensor radius of [`SensorSampler::new`]'s exit-pupil bounds.
+pub const DEFAULT_PUPIL_BANDS: usize = 32;
+/// Test-ray grid per band of [`SensorSampler::new`]: 96² targets, the regions widened by two
+/// cells (1/24 of the rear disc's radius).
+pub const DEFAULT_PUPIL_GRID: usize = 96;
+
+/// What a lens camera needs to turn a sensor point and two uniform numbers into a weighted ray:
+/// the tracer, the exit-pupil bounds and the normalisation, measured once.
+#[derive(Clone, Debug)]
+pub struct SensorSampler {
+    /// The lens, prepared for tracing (its last thickness is the sensor distance).
+    pub tracer: LensTracer,
+    /// Where rays are aimed.
+    pub bounds: ExitPupilBounds,
+    /// The normalisation K.
+    pub normalisation: Normalisation,
+}
+
+impl SensorSampler {
+    /// Measures the bounds (for sensor points up to `sensor_half_diagonal_mm` off axis, with
+    /// [`DEFAULT_PUPIL_BANDS`] and [`DEFAULT_PUPIL_GRID`]) and the normalisation at
+    /// `reference_lambda_nm` (the focus wavelength) of `system`, focused as it is.
+    pub fn new(system: LensSystem, sensor_half_diagonal_mm: f64, reference_lambda_nm: f64) -> Self {
+        let tracer = LensTracer::new(system);
+        let bounds = ExitPupilBounds::measure(
+            &tracer,
+            sensor_half_diagonal_mm,
+            DEFAULT_PUPIL_BANDS,
+            DEFAULT_PUPIL_GRID,
+        );
+        let normalisation = Normalisation::measure(&tracer, reference_lambda_nm);
+        Self { tracer, bounds, normalisation }
+    }
+
+    /// The camera ray from `sensor_mm` (x, y on the sensor, mm, lens coordinates) aimed by the
+    /// uniform pair `u_pupil`, traced per `options` with `next_uniform` for ghost branches;
+    /// `None` when it does not reach the scene (its contribution is 0, and the estimator stays
+    /// unbiased: the pdf covers every passing ray).
+    pub fn sample(
+        &self,
+        sensor_mm: [f64; 2],
+        u_pupil: [f64; 2],
+        options: &TraceOptions,
+        next_uniform: &mut dyn FnMut() -> f64,
+    ) -> Option<CameraRay> {
+        let pupil = self.bounds.sample(sensor_mm, u_pupil)?;
+        let sample = self.tracer.trace_from_sensor(sensor_mm, pupil.target_mm, options, next_uniform)?;
+        let sensor_weight = self.normalisation.sensor_weight(sensor_mm, &pupil);
+        Some(CameraRay { sample, sensor_weight, weight: sensor_weight * sample.throughput })
     }
 }

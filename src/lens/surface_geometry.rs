@@ -70,7 +70,7 @@ pub fn intersect(surface: &Surface, vertex_z_mm: f64, origin: DVec3, dir: DVec3,
     } else {
         newton_asphere(surface, local, dir, conic_hit)?
     };
-    if !(t > t_min) || !t.is_finite() {
+    if t.is_nan() || t <= t_min || t.is_infinite() {
         return None;
     }
     let point_local = local + t * dir;
@@ -78,9 +78,13 @@ pub fn intersect(surface: &Surface, vertex_z_mm: f64, origin: DVec3, dir: DVec3,
     Some(Hit { t, point: point_local + DVec3::new(0.0, 0.0, vertex_z_mm), normal })
 }
 
-/// Whether `point` lies within the clear semi-diameter of `surface`.
+/// Whether `point` lies within the clear semi-diameter of `surface`, its rim included: a ray
+/// aimed exactly at the rim (a marginal ray) passes although rounding of its position (~1e-16
+/// relative) may put it a hair outside, hence the relative slack of 1e-12 on ρ.
 pub fn within_aperture(surface: &Surface, point: DVec3) -> bool {
-    point.x * point.x + point.y * point.y <= surface.semi_diameter_mm * surface.semi_diameter_mm
+    const RIM_SLACK: f64 = 1e-12;
+    let semi_squared = surface.semi_diameter_mm * surface.semi_diameter_mm;
+    point.x * point.x + point.y * point.y <= semi_squared * (1.0 + RIM_SLACK)
 }
 
 /// The first root (t > `t_min`) of the quadric c(x² + y² + (1 + k) z²) − 2z = 0 along

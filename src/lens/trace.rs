@@ -143,11 +143,12 @@ pub struct TracedRay {
     pub interactions: Vec<Interaction>,
 }
 
-/// A lens system prepared for tracing (its vertex positions computed once).
+/// A lens system prepared for tracing (its vertex positions computed once); it owns its copy
+/// of the prescription, so that a camera can hold it.
 #[derive(Clone, Debug)]
-pub struct LensTracer<'a> {
+pub struct LensTracer {
     /// The lens.
-    pub system: &'a LensSystem,
+    pub system: LensSystem,
     /// z of each vertex and, last, of the image plane (mm).
     pub vertex_z_mm: Vec<f64>,
 }
@@ -161,10 +162,11 @@ enum Heading {
     ToObject,
 }
 
-impl<'a> LensTracer<'a> {
+impl LensTracer {
     /// Prepares `system` for tracing.
-    pub fn new(system: &'a LensSystem) -> Self {
-        Self { system, vertex_z_mm: system.vertex_z_mm() }
+    pub fn new(system: LensSystem) -> Self {
+        let vertex_z_mm = system.vertex_z_mm();
+        Self { system, vertex_z_mm }
     }
 
     /// z of the image (sensor) plane (mm).
