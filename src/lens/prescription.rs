@@ -89,7 +89,11 @@ impl Surface {
     pub fn sag_mm(&self, r_mm: f64) -> Option<f64> {
         let curvature = self.curvature_per_mm();
         let r2 = r_mm * r_mm;
-        let root = 1.0 - (1.0 + self.conic) * curvature * curvature * r2;
+        let mut root = 1.0 - (1.0 + self.conic) * curvature * curvature * r2;
+        // At the edge itself (r = |R| on a hemisphere) c²r² rounds to 1 ± a few ulp.
+        if root < 0.0 && root > -4.0 * f64::EPSILON {
+            root = 0.0;
+        }
         if !(root >= 0.0) {
             return None;
         }
