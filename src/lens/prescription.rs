@@ -232,6 +232,9 @@ impl LensSystem {
             }
         }
         let z = self.vertex_z_mm();
+        if z.iter().any(|z| !z.is_finite()) {
+            return Err(error("the thicknesses add up to more than f64 can hold".to_owned()));
+        }
         let scale = z.iter().map(|z| z.abs()).fold(1.0, f64::max);
         for first in 0..self.surfaces.len() {
             for second in first + 1..self.surfaces.len() {
