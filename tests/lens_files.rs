@@ -27,7 +27,9 @@ fn optics_only(system: &LensSystem) -> Vec<Surface> {
         .map(|surface| {
             let medium = match &surface.medium {
                 Medium::Air => Medium::Air,
-                Medium::Glass { formula, .. } => Medium::Glass { name: String::new(), formula: formula.clone() },
+                Medium::Glass { formula, .. } => {
+                    Medium::Glass { name: String::new(), formula: formula.clone() }
+                }
             };
             Surface { line: 0, medium, ..surface.clone() }
         })
@@ -41,7 +43,10 @@ fn the_pbrt_singlet_reads_as_written() {
     assert!(stop.is_stop);
     assert_eq!((stop.radius_mm, stop.thickness_mm, stop.semi_diameter_mm, stop.line), (0.0, 3.0, 8.0, 3));
     assert_eq!(stop.medium, Medium::Air);
-    assert_eq!((front.radius_mm, front.thickness_mm, front.semi_diameter_mm, front.line), (60.0, 4.0, 12.5, 4));
+    assert_eq!(
+        (front.radius_mm, front.thickness_mm, front.semi_diameter_mm, front.line),
+        (60.0, 4.0, 12.5, 4)
+    );
     assert_eq!(front.medium.name(), "N-BK7");
     assert_eq!((back.radius_mm, back.thickness_mm, back.semi_diameter_mm, back.line), (-60.0, 56.0, 12.5, 5));
     assert_eq!(back.medium, Medium::Air);
@@ -179,7 +184,8 @@ fn mangled_files_never_panic() {
         .collect();
     let parse = |name: &str, bytes: &[u8]| -> Result<LensSystem, LensError> {
         let path = Path::new(name);
-        let text = decode_text(bytes).map_err(|message| LensError::System { file: name.to_owned(), message })?;
+        let text =
+            decode_text(bytes).map_err(|message| LensError::System { file: name.to_owned(), message })?;
         if name.ends_with(".zmx") {
             parse_zmx(&text, path)
         } else {
@@ -187,8 +193,22 @@ fn mangled_files_never_panic() {
         }
     };
     const GARBAGE: [&str; 16] = [
-        "", "x", "-", "NaN", "inf", "-inf", "1e308", "-1e308", "1e-308", "0", "-0", "1e400", "INFINITY",
-        "sellmeier:", "abbe:1,0", "MIRROR",
+        "",
+        "x",
+        "-",
+        "NaN",
+        "inf",
+        "-inf",
+        "1e308",
+        "-1e308",
+        "1e-308",
+        "0",
+        "-0",
+        "1e400",
+        "INFINITY",
+        "sellmeier:",
+        "abbe:1,0",
+        "MIRROR",
     ];
     let mut cases = 0usize;
     for (name, bytes) in &sources {

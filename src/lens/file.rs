@@ -30,7 +30,8 @@ pub fn read_lens_file(path: &Path) -> Result<LensSystem, LensError> {
         )));
     }
     let text = decode_text(&bytes).map_err(system_error)?;
-    let is_zemax = path.extension().and_then(|ext| ext.to_str()).is_some_and(|ext| ext.eq_ignore_ascii_case("zmx"));
+    let is_zemax =
+        path.extension().and_then(|ext| ext.to_str()).is_some_and(|ext| ext.eq_ignore_ascii_case("zmx"));
     if is_zemax {
         zmx::parse_zmx(&text, path)
     } else {
@@ -46,7 +47,7 @@ pub fn read_lens_file(path: &Path) -> Result<LensSystem, LensError> {
 pub fn decode_text(bytes: &[u8]) -> Result<String, String> {
     let utf16 = |little_endian: bool| -> Result<String, String> {
         let body = &bytes[2..];
-        if body.len() % 2 != 0 {
+        if !body.len().is_multiple_of(2) {
             return Err("UTF-16 text with an odd number of bytes".to_owned());
         }
         let units = body.chunks_exact(2).map(|pair| {

@@ -107,7 +107,13 @@ fn parse_surface(content: &str, line: usize) -> Result<Surface, String> {
     for (column, (field, number)) in fields.iter().zip(numbers.iter_mut()).enumerate() {
         *number = match field.parse::<f64>() {
             Ok(value) if value.is_finite() => value,
-            _ => return Err(format!("column {} ({}): \"{field}\" is not a finite number", column + 1, COLUMNS[column])),
+            _ => {
+                return Err(format!(
+                    "column {} ({}): \"{field}\" is not a finite number",
+                    column + 1,
+                    COLUMNS[column]
+                ))
+            }
         };
     }
     let [radius_mm, thickness_mm, eta, aperture_mm] = numbers;
@@ -127,7 +133,7 @@ fn parse_surface(content: &str, line: usize) -> Result<Surface, String> {
             let medium = parse_glass_spec(spec).map_err(|message| format!("column 5 (glass): {message}"))?;
             let eta_n = if eta == 0.0 { 1.0 } else { eta };
             let n_d = medium.n_at_nm(LAMBDA_D_NM);
-            if !((n_d - eta_n).abs() <= ETA_GLASS_TOLERANCE) {
+            if n_d.is_nan() || (n_d - eta_n).abs() > ETA_GLASS_TOLERANCE {
                 return Err(format!(
                     "column 5 (glass): {} has n_d = {n_d:.5} but column 3 (eta) is {eta}; they must agree \
                      within {ETA_GLASS_TOLERANCE} (a wrong glass?)",
@@ -161,7 +167,8 @@ fn paraxial_back_focal_distance_mm(system: &LensSystem, lambda_nm: f64) -> Optio
     for (index, surface) in system.surfaces.iter().enumerate() {
         let n_before = system.medium_before(index).n_at_nm(lambda_nm);
         let n_after = surface.medium.n_at_nm(lambda_nm);
-        let curvature = surface.curvature_per_mm() + 2.0 * surface.aspheric_mm.first().copied().unwrap_or(0.0);
+        let curvature =
+            surface.curvature_per_mm() + 2.0 * surface.aspheric_mm.first().copied().unwrap_or(0.0);
         let power = (n_after - n_before) * curvature;
         slope = (n_before * slope - height * power) / n_after;
         if index < last {
@@ -196,7 +203,10 @@ mod tests {
     fn numbers_are_read_as_written() {
         let system = parse(SINGLET).expect("valid singlet");
         let [front, back, stop] = system.surfaces.as_slice() else { panic!("three surfaces") };
-        assert_eq!((front.radius_mm, front.thickness_mm, front.semi_diameter_mm, front.line), (50.0, 5.0, 10.0, 3));
+        assert_eq!(
+            (front.radius_mm, front.thickness_mm, front.semi_diameter_mm, front.line),
+            (50.0, 5.0, 10.0, 3)
+        );
         assert_eq!(front.medium, Medium::constant(1.5));
         assert!(!front.is_stop);
         assert_eq!((back.radius_mm, back.medium.clone(), back.line), (-50.0, Medium::Air, 4));
@@ -219,7 +229,10 @@ mod tests {
         // A diverging lens has no real focus behind it.
         match parse("0 2 0 10\n-50 5 1.5 20\n50 0 1 20\n") {
             Err(LensError::System { message, .. }) => {
-                assert!(message.starts_with("a sensor behind nothing: the last thickness (line 3) is 0"), "{message}")
+                assert!(
+                    message.starts_with("a sensor behind nothing: the last thickness (line 3) is 0"),
+                    "{message}"
+                )
             }
             other => panic!("{other:?}"),
         }
@@ -280,8 +293,14 @@ mod tests {
         // R = 50 mm, clear semi-diameter 10 mm: each sag is 50 − √(50² − 10²) = 1.0102 mm, so a
         // 1 mm centre thickness makes the two faces cross at the rim.
         let crossing = system_error("50 1 1.5 20\n-50 1 1 20\n0 40 0 10\n");
-        assert!(crossing.starts_with("surface 1 (line 1) and surface 2 (line 2) cross: at 10 mm"), "{crossing}");
+        assert!(
+            crossing.starts_with("surface 1 (line 1) and surface 2 (line 2) cross: at 10 mm"),
+            "{crossing}"
+        );
         let too_wide = system_error("5 5 1.5 20\n-50 1 1 20\n0 40 0 10\n");
-        assert!(too_wide.starts_with("surface 1 (line 1): semi-diameter 10 mm is beyond the surface's edge"), "{too_wide}");
+        assert!(
+            too_wide.starts_with("surface 1 (line 1): semi-diameter 10 mm is beyond the surface's edge"),
+            "{too_wide}"
+        );
     }
 }

@@ -94,7 +94,7 @@ impl Surface {
         if root < 0.0 && root > -4.0 * f64::EPSILON {
             root = 0.0;
         }
-        if !(root >= 0.0) {
+        if root.is_nan() || root < 0.0 {
             return None;
         }
         let mut sag = curvature * r2 / (1.0 + root.sqrt());
@@ -194,7 +194,9 @@ impl LensSystem {
             }
         };
         if self.surfaces.is_empty() {
-            return Err(error("no surfaces: a lens needs at least one surface and an aperture stop".to_owned()));
+            return Err(error(
+                "no surfaces: a lens needs at least one surface and an aperture stop".to_owned(),
+            ));
         }
         let stops: Vec<usize> = (0..self.surfaces.len()).filter(|&i| self.surfaces[i].is_stop).collect();
         match stops.as_slice() {
@@ -213,7 +215,7 @@ impl LensSystem {
             if numbers.iter().chain(&surface.aspheric_mm).any(|x| !x.is_finite()) {
                 return Err(error(format!("{}: a number is not finite", describe(index))));
             }
-            if !(surface.semi_diameter_mm > 0.0) {
+            if surface.semi_diameter_mm <= 0.0 {
                 return Err(error(format!(
                     "{}: semi-diameter {} mm must be > 0",
                     describe(index),
@@ -262,7 +264,7 @@ impl LensSystem {
             }
         }
         let last = self.surfaces.len() - 1;
-        if !(self.surfaces[last].thickness_mm > 0.0) {
+        if self.surfaces[last].thickness_mm <= 0.0 {
             return Err(error(format!(
                 "a sensor behind nothing: the image plane must lie behind the last vertex, but the \
                  thickness of {} is {} mm",

@@ -212,7 +212,9 @@ fn read_keyword(keyword: &str, args: &[&str], line: usize, raw: &mut Vec<RawSurf
 
 /// The medium of a `GLAS` line.
 fn glass(args: &[&str], number: &dyn Fn(usize) -> Result<f64, String>) -> Result<Medium, String> {
-    let Some(&name) = args.first() else { return Err("GLAS: field 1 (the glass name) is missing".to_owned()) };
+    let Some(&name) = args.first() else {
+        return Err("GLAS: field 1 (the glass name) is missing".to_owned());
+    };
     if name.eq_ignore_ascii_case("MIRROR") {
         return Err("GLAS MIRROR: mirrors are not supported (prisma reads refracting lenses)".to_owned());
     }
@@ -235,7 +237,8 @@ fn glass(args: &[&str], number: &dyn Fn(usize) -> Result<f64, String>) -> Result
     }
     match (n_d, v_d) {
         (Some(n_d), Some(v_d)) => {
-            let formula = abbe_formula(n_d, v_d).map_err(|message| format!("GLAS {name} (model glass): {message}"))?;
+            let formula =
+                abbe_formula(n_d, v_d).map_err(|message| format!("GLAS {name} (model glass): {message}"))?;
             Ok(Medium::Glass { name: format!("{name} (model n_d {n_d}, V_d {v_d})"), formula })
         }
         _ => Err(format!(
@@ -263,14 +266,14 @@ fn assemble(
     let object = &raw[0];
     match object.thickness {
         Some((Thickness::Infinity, _)) => {}
-        Some((Thickness::Finite(_), line)) => {
-            return Err(line_error(
-                line,
-                "DISZ: the object surface must be at INFINITY (a finite object distance is not supported yet)"
-                    .to_owned(),
-            ))
+        Some((Thickness::Finite(_), line)) => return Err(line_error(
+            line,
+            "DISZ: the object surface must be at INFINITY (a finite object distance is not supported yet)"
+                .to_owned(),
+        )),
+        None => {
+            return Err(line_error(object.line, "SURF 0: the object surface needs DISZ INFINITY".to_owned()))
         }
-        None => return Err(line_error(object.line, "SURF 0: the object surface needs DISZ INFINITY".to_owned())),
     }
     if let (Some(line), false) = (object.glass_line, object.medium == Medium::Air) {
         return Err(line_error(line, "GLAS: object space must be air".to_owned()));
@@ -282,7 +285,10 @@ fn assemble(
         }
     }
     if image.curvature != 0.0 || image.surface_type != SurfaceType::Standard {
-        return Err(line_error(image.line, "SURF: a curved image surface is not supported (the image is a plane)".to_owned()));
+        return Err(line_error(
+            image.line,
+            "SURF: a curved image surface is not supported (the image is a plane)".to_owned(),
+        ));
     }
     let mut surfaces = Vec::with_capacity(raw.len() - 2);
     for (number, surface) in raw.iter().enumerate().take(raw.len() - 1).skip(1) {
@@ -310,10 +316,18 @@ fn assemble(
         }
         let thickness_mm = match surface.thickness {
             Some((Thickness::Finite(value), _)) => value,
-            _ => return Err(line_error(surface.line, format!("SURF {number}: no DISZ (the thickness to the next surface)"))),
+            _ => {
+                return Err(line_error(
+                    surface.line,
+                    format!("SURF {number}: no DISZ (the thickness to the next surface)"),
+                ))
+            }
         };
         let Some(semi_diameter_mm) = surface.semi_diameter_mm else {
-            return Err(line_error(surface.line, format!("SURF {number}: no DIAM (the clear semi-diameter)")));
+            return Err(line_error(
+                surface.line,
+                format!("SURF {number}: no DIAM (the clear semi-diameter)"),
+            ));
         };
         surfaces.push(Surface {
             radius_mm: if surface.curvature == 0.0 { 0.0 } else { 1.0 / surface.curvature },
@@ -428,10 +442,18 @@ mod tests {
         for (text, line, message) in cases {
             assert_eq!(line_error(&text), (line, message.to_owned()), "{text}");
         }
-        let (line, message) = line_error(&singlet_with("GLAS N-BK7 1 0 1.5168 64.17 0 0 0 0 0 0", "GLAS UNOBTAINIUM"));
+        let (line, message) =
+            line_error(&singlet_with("GLAS N-BK7 1 0 1.5168 64.17 0 0 0 0 0 0", "GLAS UNOBTAINIUM"));
         assert_eq!(line, 22);
-        assert!(message.starts_with("GLAS unknown glass \"UNOBTAINIUM\": the catalogue (data/glasses.toml) has N-BK7"), "{message}");
-        assert!(message.ends_with("a glass outside it needs n_d and V_d in fields 4 and 5 (GLAS NAME 1 0 nd vd)"));
+        assert!(
+            message.starts_with(
+                "GLAS unknown glass \"UNOBTAINIUM\": the catalogue (data/glasses.toml) has N-BK7"
+            ),
+            "{message}"
+        );
+        assert!(
+            message.ends_with("a glass outside it needs n_d and V_d in fields 4 and 5 (GLAS NAME 1 0 nd vd)")
+        );
     }
 
     #[test]
