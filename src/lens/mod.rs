@@ -18,15 +18,21 @@
 //! Modules: [`prescription`] (the types), [`paraxial`] (first-order data per wavelength),
 //! [`surface_geometry`] (sag, ray–surface hits, normals), [`fresnel_stack`] (f64 Fresnel and
 //! path Mueller matrices), [`trace`] (real rays both ways, ghost branches), [`pupil`] (aiming
-//! camera rays and the radiometric weight).
+//! camera rays and the radiometric weight), [`file`] with [`pbrt`] and [`zmx`] (reading
+//! prescriptions; [`glass_spec`] for a pbrt file's glass column).
 
+pub mod file;
 pub mod fresnel_stack;
+pub mod glass_spec;
 pub mod paraxial;
+pub mod pbrt;
 pub mod prescription;
 pub mod pupil;
 pub mod surface_geometry;
 pub mod trace;
+pub mod zmx;
 
+pub use file::read_lens_file;
 pub use fresnel_stack::{interface_fresnel, InterfaceFresnel, Mueller4};
 pub use paraxial::{Paraxial, LAMBDA_D_NM};
 pub use prescription::{LensError, LensSystem, Medium, Surface};
