@@ -368,6 +368,7 @@ impl<'a> LightTracer<'a> {
                     layout,
                     splats,
                     stats,
+                    rng,
                 );
             }
         }
@@ -397,12 +398,12 @@ impl<'a> LightTracer<'a> {
                 // this tracer counts everything.
                 Material::Diffuse(_) if !photon.through_specular && !self.everything => {}
                 Material::Diffuse(diffuse) if !self.interreflection => {
-                    self.connect(diffuse, hit, &photon, wavelengths, layout, splats, stats);
+                    self.connect(diffuse, hit, &photon, wavelengths, layout, splats, stats, rng);
                 }
                 // With interreflection this vertex is interaction depth + 1 (module docs).
                 Material::Diffuse(_) if photon.depth >= self.max_depth => {}
                 Material::Diffuse(diffuse) => {
-                    self.connect(diffuse, hit, &photon, wavelengths, layout, splats, stats);
+                    self.connect(diffuse, hit, &photon, wavelengths, layout, splats, stats, rng);
                     if photon.depth + 1 < self.max_depth {
                         self.scatter(diffuse, hit, &photon, wavelengths, reference, scratch, rng);
                     }
@@ -723,9 +724,10 @@ impl<'a> LightTracer<'a> {
         layout: &FilmLayout,
         splats: &mut Splats,
         stats: &mut TraceStats,
+        rng: &mut LightPathRng,
     ) {
         let camera = &self.scene.camera;
-        let Some(seen) = camera.project(hit.point) else { return };
+        let Some(seen) = camera.project(hit.point, || (rng.uniform(), rng.uniform())) else { return };
         // Shade the side the light arrives on; the camera must be on it too.
         let to_light = -photon.ray.dir;
         let (normal, shading_normal) = lit_side(hit, to_light);
@@ -757,9 +759,12 @@ impl<'a> LightTracer<'a> {
         layout: &FilmLayout,
         splats: &mut Splats,
         stats: &mut TraceStats,
+        rng: &mut LightPathRng,
     ) {
         let Light::Quad(quad) = &self.scene.lights[light] else { return };
-        let Some(seen) = self.scene.camera.project(leaving.origin) else { return };
+        let Some(seen) = self.scene.camera.project(leaving.origin, || (rng.uniform(), rng.uniform())) else {
+            return;
+        };
         // One-sided: the camera must be on the emitting side.
         let cos_light = quad.emit_normal.dot(seen.to_camera);
         if cos_light <= 0.0 {
