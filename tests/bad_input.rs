@@ -150,7 +150,10 @@ fn degenerate_camera() {
 #[test]
 fn bad_thin_lens() {
     let lens = |radius: &str, focus: &str| {
-        GOOD.replace("height = 6", &format!("height = 6\naperture_radius = {radius}\nfocus_distance = {focus}"))
+        GOOD.replace(
+            "height = 6",
+            &format!("height = 6\naperture_radius = {radius}\nfocus_distance = {focus}"),
+        )
     };
     for (radius, focus, field, needle) in [
         ("-0.1", "5", "camera.aperture_radius", "aperture_radius"),

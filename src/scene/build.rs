@@ -210,7 +210,7 @@ impl Builder<'_> {
                 "needs aperture_radius (a pinhole is in focus everywhere)",
             )),
             // A radius of 0 is the pinhole exactly (every lens point is the pinhole).
-            (Some((radius, _)), _) if radius == 0.0 => Ok(Camera::Pinhole(pinhole)),
+            (Some((0.0, _)), _) => Ok(Camera::Pinhole(pinhole)),
             (Some((_, at)), None) => {
                 Err(self.error(at, "camera.focus_distance", "is required with a positive aperture_radius"))
             }
