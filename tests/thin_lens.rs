@@ -331,3 +331,22 @@ fn the_light_tracer_and_the_path_tracer_agree_through_a_thin_lens() {
     eprint!("the light side through the lens vs a pinhole camera side: ");
     assert!(!passes(&compare(&scene, light, sharp)));
 }
+
+/// Same seed, same bits: the shipped thin-lens scene (full transport with caustics: the lens
+/// sample on both sides) renders to the same image on one thread and on two.
+#[test]
+fn a_thin_lens_render_is_the_same_bits_on_any_thread_count() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/thin_lens_dof.toml");
+    let mut scene = prisma::scene::load(&path).expect("the shipped scene loads");
+    assert!(matches!(scene.camera, prisma::camera::Camera::ThinLens(_)));
+    scene.camera = scene.camera.with_resolution(40, 30).expect("a valid size");
+    let mut settings = scene.settings.clone();
+    assert!(settings.caustics);
+    settings.spp = 2;
+    settings.light_paths = Some(4000);
+    let image = |threads: usize| {
+        let (film, _) = render(&scene, &Job { threads, ..Job::new(settings.clone()) }).expect("renders");
+        film.xyz().iter().flat_map(|v| v.to_array().map(f32::to_bits)).collect::<Vec<u32>>()
+    };
+    assert_eq!(image(1), image(2));
+}
