@@ -87,23 +87,7 @@ impl Surface {
     /// and there are no αᵢ). `None` beyond the conic's edge, where (1 + k) c² r² > 1 (for a
     /// sphere: r > |R|).
     pub fn sag_mm(&self, r_mm: f64) -> Option<f64> {
-        let curvature = self.curvature_per_mm();
-        let r2 = r_mm * r_mm;
-        let mut root = 1.0 - (1.0 + self.conic) * curvature * curvature * r2;
-        // At the edge itself (r = |R| on a hemisphere) c²r² rounds to 1 ± a few ulp.
-        if root < 0.0 && root > -4.0 * f64::EPSILON {
-            root = 0.0;
-        }
-        if root.is_nan() || root < 0.0 {
-            return None;
-        }
-        let mut sag = curvature * r2 / (1.0 + root.sqrt());
-        let mut r_power = 1.0;
-        for alpha in &self.aspheric_mm {
-            r_power *= r2;
-            sag += alpha * r_power;
-        }
-        Some(sag)
+        super::surface_geometry::sag(self, r_mm * r_mm)
     }
 }
 
