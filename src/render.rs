@@ -922,7 +922,9 @@ fn render_row<B: PathBeam>(
                     &sampled
                 }
             };
-            let ray = scene.camera.ray(x as f32 + jx, y as f32 + jy);
+            // A lens takes the next two dimensions (3 and 4); the pinhole none.
+            let ray =
+                scene.camera.sample_ray(x as f32 + jx, y as f32 + jy, || (rng.uniform(), rng.uniform()));
             let frame_x = if B::POLARIZED { scene.camera.stokes_x(ray.dir) } else { ray.dir };
             let light: B = integrator.radiance(&ray, frame_x, wavelengths, &mut rng, &mut stats);
             add_weighted_sample(sums, &light, wavelengths, layout, weight)

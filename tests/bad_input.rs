@@ -145,6 +145,33 @@ fn degenerate_camera() {
     );
 }
 
+/// A thin lens's radius and focus distance: negative, NaN, infinite, zero focus, one without
+/// the other; each names the field and its line.
+#[test]
+fn bad_thin_lens() {
+    let lens = |radius: &str, focus: &str| {
+        GOOD.replace(
+            "height = 6",
+            &format!("height = 6\naperture_radius = {radius}\nfocus_distance = {focus}"),
+        )
+    };
+    for (radius, focus, field, needle) in [
+        ("-0.1", "5", "camera.aperture_radius", "aperture_radius"),
+        ("nan", "5", "camera.aperture_radius", "aperture_radius"),
+        ("inf", "5", "camera.aperture_radius", "aperture_radius"),
+        ("0.1", "-5", "camera.focus_distance", "focus_distance"),
+        ("0.1", "nan", "camera.focus_distance", "focus_distance"),
+        ("0.1", "0", "camera.focus_distance", "focus_distance"),
+    ] {
+        let text = lens(radius, focus);
+        assert_rejected(&text, &[field, &at_line_of(&text, needle)]);
+    }
+    let focus_alone = GOOD.replace("height = 6", "height = 6\nfocus_distance = 5");
+    assert_rejected(&focus_alone, &["camera.focus_distance", "aperture_radius"]);
+    let radius_alone = GOOD.replace("height = 6", "height = 6\naperture_radius = 0.1");
+    assert_rejected(&radius_alone, &["camera.focus_distance", "required"]);
+}
+
 #[test]
 fn bad_ior() {
     assert_rejected(&GOOD.replace("ior = 1.5", "ior = 0"), &["materials.glass.ior"]);

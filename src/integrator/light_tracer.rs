@@ -54,16 +54,20 @@
 //! importance mode). At a **dispersive refraction every live wavelength continues** on its own
 //! direction, as a path carrying that lane alone; none is dropped.
 //!
-//! At the first diffuse surface (after a mirror or glass) the path is connected to the pinhole
-//! camera: if the camera sees the point (same side, unoccluded, inside the image), the pixel it
-//! lands in gains
+//! At the first diffuse surface (after a mirror or glass) the path is connected to the camera:
+//! to the pinhole, or to a point of a thin lens drawn uniformly from the path's next two sample
+//! values (drawn only for a lens: a pinhole's light paths keep their stream), landing on the film
+//! where the line from that lens point through the surface point crosses the plane of focus
+//! ([`crate::camera::ThinLens::project`]). If the camera sees the point (same side, unoccluded,
+//! inside the image), the pixel it lands in gains
 //!
 //! ```text
 //! Φ · f_r · cos θ_x · 1/(d² · A_pixel · cos³θ_c)
 //! ```
 //! (flux times the BRDF times the cosine at the receiver toward the camera: the radiant
 //! intensity the point sends to the camera; then [`crate::camera::FilmPoint::sensitivity`]: the
-//! pinhole's importance with its cosine, over d²). The diffuse receiver depolarises: the camera
+//! pinhole's importance with its cosine, over d², from the pinhole or the lens point drawn, whose
+//! density 1/(π·a²) cancels the lens average a camera ray takes). The diffuse receiver depolarises: the camera
 //! gets unpolarised light (S0), changed only by sheets on the way. The film divides the sums by
 //! the number of light paths traced ([`crate::film::WindowSums::film`]).
 //!
@@ -368,6 +372,7 @@ impl<'a> LightTracer<'a> {
                     layout,
                     splats,
                     stats,
+                    rng,
                 );
             }
         }
@@ -397,12 +402,12 @@ impl<'a> LightTracer<'a> {
                 // this tracer counts everything.
                 Material::Diffuse(_) if !photon.through_specular && !self.everything => {}
                 Material::Diffuse(diffuse) if !self.interreflection => {
-                    self.connect(diffuse, hit, &photon, wavelengths, layout, splats, stats);
+                    self.connect(diffuse, hit, &photon, wavelengths, layout, splats, stats, rng);
                 }
                 // With interreflection this vertex is interaction depth + 1 (module docs).
                 Material::Diffuse(_) if photon.depth >= self.max_depth => {}
                 Material::Diffuse(diffuse) => {
-                    self.connect(diffuse, hit, &photon, wavelengths, layout, splats, stats);
+                    self.connect(diffuse, hit, &photon, wavelengths, layout, splats, stats, rng);
                     if photon.depth + 1 < self.max_depth {
                         self.scatter(diffuse, hit, &photon, wavelengths, reference, scratch, rng);
                     }
@@ -723,9 +728,10 @@ impl<'a> LightTracer<'a> {
         layout: &FilmLayout,
         splats: &mut Splats,
         stats: &mut TraceStats,
+        rng: &mut LightPathRng,
     ) {
         let camera = &self.scene.camera;
-        let Some(seen) = camera.project(hit.point) else { return };
+        let Some(seen) = camera.project(hit.point, || (rng.uniform(), rng.uniform())) else { return };
         // Shade the side the light arrives on; the camera must be on it too.
         let to_light = -photon.ray.dir;
         let (normal, shading_normal) = lit_side(hit, to_light);
@@ -757,9 +763,12 @@ impl<'a> LightTracer<'a> {
         layout: &FilmLayout,
         splats: &mut Splats,
         stats: &mut TraceStats,
+        rng: &mut LightPathRng,
     ) {
         let Light::Quad(quad) = &self.scene.lights[light] else { return };
-        let Some(seen) = self.scene.camera.project(leaving.origin) else { return };
+        let Some(seen) = self.scene.camera.project(leaving.origin, || (rng.uniform(), rng.uniform())) else {
+            return;
+        };
         // One-sided: the camera must be on the emitting side.
         let cos_light = quad.emit_normal.dot(seen.to_camera);
         if cos_light <= 0.0 {

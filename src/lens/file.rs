@@ -47,7 +47,7 @@ pub fn read_lens_file(path: &Path) -> Result<LensSystem, LensError> {
 pub fn decode_text(bytes: &[u8]) -> Result<String, String> {
     let utf16 = |little_endian: bool| -> Result<String, String> {
         let body = &bytes[2..];
-        if body.len() % 2 != 0 {
+        if !body.len().is_multiple_of(2) {
             return Err("UTF-16 text with an odd number of bytes".to_owned());
         }
         let units = body.chunks_exact(2).map(|pair| {

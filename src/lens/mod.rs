@@ -18,7 +18,8 @@
 //! Modules: [`prescription`] (the types), [`paraxial`] (first-order data per wavelength),
 //! [`surface_geometry`] (sag, ray–surface hits, normals), [`fresnel_stack`] (f64 Fresnel and
 //! path Mueller matrices), [`trace`] (real rays both ways, ghost branches), [`pupil`] (aiming
-//! camera rays and the radiometric weight).
+//! camera rays and the radiometric weight), [`file`] with [`pbrt`] and [`zmx`] (reading
+//! prescriptions; [`glass_spec`] for a pbrt file's glass column).
 
 pub mod analysis;
 pub mod file;

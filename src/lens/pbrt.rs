@@ -133,7 +133,7 @@ fn parse_surface(content: &str, line: usize) -> Result<Surface, String> {
             let medium = parse_glass_spec(spec).map_err(|message| format!("column 5 (glass): {message}"))?;
             let eta_n = if eta == 0.0 { 1.0 } else { eta };
             let n_d = medium.n_at_nm(LAMBDA_D_NM);
-            if !((n_d - eta_n).abs() <= ETA_GLASS_TOLERANCE) {
+            if n_d.is_nan() || (n_d - eta_n).abs() > ETA_GLASS_TOLERANCE {
                 return Err(format!(
                     "column 5 (glass): {} has n_d = {n_d:.5} but column 3 (eta) is {eta}; they must agree \
                      within {ETA_GLASS_TOLERANCE} (a wrong glass?)",

@@ -87,19 +87,7 @@ impl Surface {
     /// and there are no αᵢ). `None` beyond the conic's edge, where (1 + k) c² r² > 1 (for a
     /// sphere: r > |R|).
     pub fn sag_mm(&self, r_mm: f64) -> Option<f64> {
-        let curvature = self.curvature_per_mm();
-        let r2 = r_mm * r_mm;
-        let root = 1.0 - (1.0 + self.conic) * curvature * curvature * r2;
-        if !(root >= 0.0) {
-            return None;
-        }
-        let mut sag = curvature * r2 / (1.0 + root.sqrt());
-        let mut r_power = 1.0;
-        for alpha in &self.aspheric_mm {
-            r_power *= r2;
-            sag += alpha * r_power;
-        }
-        Some(sag)
+        super::surface_geometry::sag(self, r_mm * r_mm)
     }
 }
 
@@ -211,7 +199,7 @@ impl LensSystem {
             if numbers.iter().chain(&surface.aspheric_mm).any(|x| !x.is_finite()) {
                 return Err(error(format!("{}: a number is not finite", describe(index))));
             }
-            if !(surface.semi_diameter_mm > 0.0) {
+            if surface.semi_diameter_mm <= 0.0 {
                 return Err(error(format!(
                     "{}: semi-diameter {} mm must be > 0",
                     describe(index),
@@ -230,6 +218,9 @@ impl LensSystem {
             }
         }
         let z = self.vertex_z_mm();
+        if z.iter().any(|z| !z.is_finite()) {
+            return Err(error("the thicknesses add up to more than f64 can hold".to_owned()));
+        }
         let scale = z.iter().map(|z| z.abs()).fold(1.0, f64::max);
         for first in 0..self.surfaces.len() {
             for second in first + 1..self.surfaces.len() {
@@ -257,7 +248,7 @@ impl LensSystem {
             }
         }
         let last = self.surfaces.len() - 1;
-        if !(self.surfaces[last].thickness_mm > 0.0) {
+        if self.surfaces[last].thickness_mm <= 0.0 {
             return Err(error(format!(
                 "a sensor behind nothing: the image plane must lie behind the last vertex, but the \
                  thickness of {} is {} mm",

@@ -40,8 +40,12 @@ pub struct Hit {
 /// the conic's square root is negative (beyond the edge of a sphere or an ellipsoid).
 pub fn sag(surface: &Surface, rho_mm2: f64) -> Option<f64> {
     let c = surface.curvature_per_mm();
-    let root = 1.0 - (1.0 + surface.conic) * c * c * rho_mm2;
-    if root < 0.0 {
+    let mut root = 1.0 - (1.0 + surface.conic) * c * c * rho_mm2;
+    // At the edge itself (ρ = R² on a hemisphere) c²ρ rounds to 1 ± a few ulp.
+    if root < 0.0 && root > -4.0 * f64::EPSILON {
+        root = 0.0;
+    }
+    if root.is_nan() || root < 0.0 {
         return None;
     }
     let conic = c * rho_mm2 / (1.0 + root.sqrt());

@@ -37,9 +37,10 @@ use crate::optics::dispersion::LAMBDA_D_NM;
 pub const GLAS_ND_TOLERANCE: f64 = 0.01;
 
 /// Keywords skipped: they do not change the geometry or the media of a sequential, rotationally
-/// symmetric lens (system data, wavelengths and fields, pupil and ray-aiming settings,
-/// optimisation, tolerancing and multi-configuration data, drawing data such as `MIRR` — the
-/// mirror *substrate* drawn, written on every surface; a mirror is `GLAS MIRROR` — and coatings).
+/// symmetric lens. They are system data, wavelengths and fields, pupil and ray-aiming settings,
+/// optimisation, tolerancing and multi-configuration data, solve, pickup and variable flags (the
+/// values they set are stored in the surface data), drawing data such as `MIRR` (the mirror
+/// *substrate* drawn, written on every surface; a mirror is `GLAS MIRROR`), and coatings.
 pub const IGNORED: &[&str] = &[
     "VERS", "MODE", "NAME", "NOTE", "PFIL", "LANG", "ENPD", "ENVD", "FNUM", "OBNA", "FLOA", "FTYP", "WAVL",
     "WAVM", "WAVN", "WWGT", "WWGN", "PWAV", "GCAT", "GFAC", "GLRS", "GSTD", "RAIM", "PUPD", "PUSH", "SDMA",
@@ -47,7 +48,7 @@ pub const IGNORED: &[&str] = &[
     "ZVDX", "ZVDY", "ZVCX", "ZVCY", "ZVAN", "OPDX", "EFFL", "COFN", "NSCD", "BLNK", "TOL", "TOLE", "MNUM",
     "MOFF", "CONF", "DMFS", "ISNA", "VDSZ", "MNCA", "MNEA", "MNCG", "MNEG", "MXCA", "MXCG", "RGLA", "TRAC",
     "TCMM", "PMAG", "TOTR", "POLS", "TCED", "HIDE", "MIRR", "SLAB", "POPS", "COMM", "FLAP", "MEMA", "FIMP",
-    "PZUP", "COAT", "PKUP",
+    "PZUP", "COAT", "PKUP", "PPAR", "VPAR", "VCON",
 ];
 
 /// Keywords that change the optics in ways prisma does not model: decentres and tilts,

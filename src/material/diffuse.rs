@@ -85,7 +85,7 @@ impl Diffuse {
 /// Shirley and Chiu's concentric map of [0, 1)² onto the unit disk ("A low distortion map
 /// between disk and square", 1997): area-preserving, so uniform numbers give uniform points.
 #[inline]
-fn concentric_disk((u1, u2): (f32, f32)) -> (f32, f32) {
+pub(crate) fn concentric_disk((u1, u2): (f32, f32)) -> (f32, f32) {
     let (a, b) = (2.0 * u1 - 1.0, 2.0 * u2 - 1.0);
     if a == 0.0 && b == 0.0 {
         return (0.0, 0.0);

@@ -16,7 +16,7 @@ use super::desc::{
 use super::error::{line_column, one_line, shorten};
 use super::typed::Typed;
 use super::{IntegratorKind, RenderSettings, Scene, SceneError, Surface};
-use crate::camera::Camera;
+use crate::camera::{Camera, Pinhole, ThinLens};
 use crate::geometry::{Geometry, Mesh, Plane, Quad, Shape, Sphere};
 use crate::light::{BeamLight, Light, PointLight, QuadLight, SpotLight};
 use crate::material::{
@@ -185,8 +185,39 @@ impl Builder<'_> {
         let up = self.point(desc.up, span.clone(), "camera.up")?;
         self.resolution(desc.width, span.clone(), "camera.width")?;
         self.resolution(desc.height, span.clone(), "camera.height")?;
-        Camera::look_at(position, look_at, up, desc.fov_y_deg, desc.width, desc.height)
-            .map_err(|err| self.error(span, "camera", err.to_string()))
+        let pinhole = Pinhole::look_at(position, look_at, up, desc.fov_y_deg, desc.width, desc.height)
+            .map_err(|err| self.error(span.clone(), "camera", err.to_string()))?;
+        // Each value's own line in errors.
+        let value = |field: &Option<Spanned<f32>>| field.as_ref().map(|v| (*v.get_ref(), v.span()));
+        let (radius, focus) = (value(&desc.aperture_radius), value(&desc.focus_distance));
+        if let Some((radius, at)) = &radius {
+            if !(*radius >= 0.0 && *radius <= MAX_COORDINATE) {
+                let message = format!("must lie in [0, {MAX_COORDINATE:e}], got {}", number(*radius));
+                return Err(self.error(at.clone(), "camera.aperture_radius", message));
+            }
+        }
+        if let Some((focus, at)) = &focus {
+            if !(*focus > 0.0 && *focus <= MAX_COORDINATE) {
+                let message = format!("must lie in (0, {MAX_COORDINATE:e}], got {}", number(*focus));
+                return Err(self.error(at.clone(), "camera.focus_distance", message));
+            }
+        }
+        match (radius, focus) {
+            (None, None) => Ok(Camera::Pinhole(pinhole)),
+            (None, Some((_, at))) => Err(self.error(
+                at,
+                "camera.focus_distance",
+                "needs aperture_radius (a pinhole is in focus everywhere)",
+            )),
+            // A radius of 0 is the pinhole exactly (every lens point is the pinhole).
+            (Some((0.0, _)), _) => Ok(Camera::Pinhole(pinhole)),
+            (Some((_, at)), None) => {
+                Err(self.error(at, "camera.focus_distance", "is required with a positive aperture_radius"))
+            }
+            (Some((radius, _)), Some((focus, _))) => ThinLens::new(pinhole, radius, focus)
+                .map(Camera::ThinLens)
+                .map_err(|err| self.error(span, "camera", err.to_string())),
+        }
     }
 
     fn resolution(&self, pixels: u32, span: std::ops::Range<usize>, field: &str) -> Result<(), SceneError> {

@@ -35,7 +35,7 @@ use super::typed::{TypeNames, Typed};
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SceneDesc {
-    /// The pinhole camera.
+    /// The camera: a pinhole, or a thin lens.
     pub camera: Spanned<CameraDesc>,
     /// Render settings (all optional).
     #[serde(default)]
@@ -54,7 +54,7 @@ pub struct SceneDesc {
     pub lights: Vec<Spanned<Typed<LightDesc>>>,
 }
 
-/// `[camera]`: a pinhole camera.
+/// `[camera]`: a pinhole camera, or with `aperture_radius` a thin lens ([`crate::camera`]).
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CameraDesc {
@@ -71,6 +71,13 @@ pub struct CameraDesc {
     pub width: u32,
     /// Image height in pixels.
     pub height: u32,
+    /// Radius of a thin lens (scene units); absent or 0: the pinhole.
+    #[serde(default)]
+    pub aperture_radius: Option<Spanned<f32>>,
+    /// Depth of the thin lens's plane of focus along the view direction (scene units); required
+    /// with a positive `aperture_radius`, refused without one.
+    #[serde(default)]
+    pub focus_distance: Option<Spanned<f32>>,
 }
 
 fn default_up() -> [f32; 3] {

@@ -11,6 +11,10 @@ The mapping, prisma → Mitsuba 3.9.1:
   camera            perspective, fov_axis "y", fov = fov_y_deg, to_world = look_at(position,
                     look_at, up); hdrfilm with a box filter, float32, width/height of the file
                     (both renderers use the same handedness: +x on the image's left looking down +z)
+  camera with lens  (aperture_radius > 0) thinlens, the same fov and to_world, aperture_radius and
+                    focus_distance as given: both put the lens at the camera position, focus on the
+                    plane at depth focus_distance along the view, sample the lens uniformly
+                    (concentric map) and weigh every ray 1
   sphere            sphere (outward normals)
   plane             rectangle of half-size PLANE_HALF_SIZE centred on `point`, local +z = normal;
                     or (plane_half_size = "graded") a triangle mesh of the plane to 1e6 units with
@@ -660,8 +664,13 @@ class Translator:
             }
         else:
             raise TranslationError(f"unknown film {film!r}")
+        lens = {}
+        if float(cam.get("aperture_radius", 0.0)) > 0.0:
+            lens = {"type": "thinlens", "aperture_radius": float(cam["aperture_radius"]),
+                    "focus_distance": float(cam["focus_distance"])}
         return {
             "type": "perspective",
+            **lens,
             "fov_axis": "y",
             "fov": float(cam["fov_y_deg"]),
             "to_world": mi.ScalarTransform4f().look_at(

@@ -1,4 +1,4 @@
-//! [`Camera`]: a pinhole camera.
+//! [`Pinhole`]: a pinhole camera, every ray from one point.
 //!
 //! Right-handed, as Mitsuba 3's `look_at`: a camera at the origin looking along +z with +y up
 //! has +x on the image's left. Pixel (0, 0) is the top-left corner; a sample at film position
@@ -16,17 +16,20 @@
 
 use glam::Vec3;
 
+use super::{CameraError, FilmPoint};
 use crate::geometry::Ray;
 
 /// A pinhole camera.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Camera {
+pub struct Pinhole {
     position: Vec3,
     forward: Vec3,
     /// Unit vector toward the image's right, scaled by tan(fov_y/2)·aspect.
     right_scaled: Vec3,
     /// Unit vector toward the image's top, scaled by tan(fov_y/2).
     up_scaled: Vec3,
+    /// Unit vector toward the image's right.
+    right: Vec3,
     /// Unit vector toward the image's top.
     up: Vec3,
     width: u32,
@@ -39,40 +42,7 @@ pub struct Camera {
     pixel_area: f32,
 }
 
-/// A point seen by the camera, as [`Camera::project`] finds it.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct FilmPoint {
-    /// Row-major index of the pixel it lands in.
-    pub pixel: u32,
-    /// Unit direction from the point to the camera.
-    pub to_camera: Vec3,
-    /// Distance from the point to the camera.
-    pub distance: f32,
-    /// The radiance that pixel reads (box filter) per unit of radiant intensity (W·sr⁻¹)
-    /// leaving the point toward the camera: 1/(d²·A_pixel·cos³θ), with A_pixel a pixel's area
-    /// on the image plane at unit distance and θ the angle off the optical axis (a pixel there
-    /// spans the solid angle A_pixel·cos³θ). Per unit area (m⁻²·sr⁻¹ per W·sr⁻¹).
-    pub sensitivity: f32,
-}
-
-/// Why a camera is degenerate.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum CameraError {
-    /// look_at equals position.
-    #[error("look_at equals position: the view direction is undefined")]
-    NoViewDirection,
-    /// up is zero or parallel to the view direction.
-    #[error("up is zero or parallel to the view direction")]
-    UpParallel,
-    /// The field of view is not in (0, 180) degrees.
-    #[error("fov_y_deg must be in (0, 180), got {0}")]
-    FieldOfView(f32),
-    /// Zero image size.
-    #[error("width and height must be ≥ 1, got {0}×{1}")]
-    Resolution(u32, u32),
-}
-
-impl Camera {
+impl Pinhole {
     /// A camera at `position` looking at `look_at`, with `up` (any length, not parallel to the
     /// view), vertical field of view `fov_y_deg` degrees, and an image of `width`×`height` pixels.
     pub fn look_at(
@@ -108,6 +78,7 @@ impl Camera {
             forward,
             right_scaled: -left * tan_half * aspect,
             up_scaled: true_up * tan_half,
+            right: -left,
             up: true_up,
             width,
             height,
@@ -152,13 +123,30 @@ impl Camera {
         self.height
     }
 
+    /// The pinhole (scene units).
+    pub fn position(&self) -> Vec3 {
+        self.position
+    }
+
+    /// Unit vectors toward the image's right and top (scene space).
+    pub fn right_and_up(&self) -> (Vec3, Vec3) {
+        (self.right, self.up)
+    }
+
+    /// The direction from the pinhole through film position (`x`, `y`) in pixels, not
+    /// normalised: its component along the view direction is 1 (a point of the image plane at
+    /// unit distance, relative to the pinhole).
+    #[inline]
+    pub fn film_direction(&self, x: f32, y: f32) -> Vec3 {
+        let ndc_x = 2.0 * x / self.width as f32 - 1.0;
+        let ndc_y = 1.0 - 2.0 * y / self.height as f32;
+        self.forward + ndc_x * self.right_scaled + ndc_y * self.up_scaled
+    }
+
     /// The primary ray through film position (`x`, `y`) in pixels (x to the right, y down).
     #[inline]
     pub fn ray(&self, x: f32, y: f32) -> Ray {
-        let ndc_x = 2.0 * x / self.width as f32 - 1.0;
-        let ndc_y = 1.0 - 2.0 * y / self.height as f32;
-        let dir = (self.forward + ndc_x * self.right_scaled + ndc_y * self.up_scaled).normalize();
-        Ray::new(self.position, dir)
+        Ray::new(self.position, self.film_direction(x, y).normalize())
     }
 
     /// Where the light leaving `point` toward the camera lands on the film, if it does (the
@@ -170,21 +158,43 @@ impl Camera {
         if !(depth > 0.0 && distance_sq.is_finite()) {
             return None;
         }
-        let ndc_x = offset.dot(self.right_scaled) / (depth * self.right_sq);
-        let ndc_y = offset.dot(self.up_scaled) / (depth * self.up_sq);
+        let pixel = self.pixel_toward(offset, depth)?;
+        Some(self.seen_from(offset, depth, distance_sq, pixel))
+    }
+
+    /// The depth of `offset` (a vector in scene space) along the view direction.
+    #[inline]
+    pub(super) fn depth(&self, offset: Vec3) -> f32 {
+        offset.dot(self.forward)
+    }
+
+    /// The pixel whose film position the pinhole sees along `toward` (from the pinhole, of
+    /// positive `depth` along the view), if inside the image: row-major index.
+    #[inline]
+    pub(super) fn pixel_toward(&self, toward: Vec3, depth: f32) -> Option<u32> {
+        let ndc_x = toward.dot(self.right_scaled) / (depth * self.right_sq);
+        let ndc_y = toward.dot(self.up_scaled) / (depth * self.up_sq);
         let x = (ndc_x + 1.0) * 0.5 * self.width as f32;
         let y = (1.0 - ndc_y) * 0.5 * self.height as f32;
         if !(x >= 0.0 && x < self.width as f32 && y >= 0.0 && y < self.height as f32) {
             return None;
         }
+        Some((x as u32).min(self.width - 1) + (y as u32).min(self.height - 1) * self.width)
+    }
+
+    /// The point at `offset` from the eye (of `depth` along the view and squared length
+    /// `distance_sq`), landing in `pixel`: its direction, distance and the sensitivity
+    /// 1/(d²·A_pixel·cos³θ) ([`FilmPoint::sensitivity`]).
+    #[inline]
+    pub(super) fn seen_from(&self, offset: Vec3, depth: f32, distance_sq: f32, pixel: u32) -> FilmPoint {
         let distance = distance_sq.sqrt();
         let cos_theta = depth / distance;
-        Some(FilmPoint {
-            pixel: (x as u32).min(self.width - 1) + (y as u32).min(self.height - 1) * self.width,
+        FilmPoint {
+            pixel,
             to_camera: -offset / distance,
             distance,
             sensitivity: 1.0 / (distance_sq * self.pixel_area * cos_theta * cos_theta * cos_theta),
-        })
+        }
     }
 
     /// The x axis of the Stokes frame in which the light arriving along a camera ray of
@@ -203,7 +213,7 @@ mod tests {
 
     #[test]
     fn plus_x_is_on_the_left_when_looking_down_plus_z() {
-        let camera = Camera::look_at(Vec3::ZERO, Vec3::Z, Vec3::Y, 60.0, 200, 100).unwrap();
+        let camera = Pinhole::look_at(Vec3::ZERO, Vec3::Z, Vec3::Y, 60.0, 200, 100).unwrap();
         let left_edge = camera.ray(0.0, 50.0);
         assert!(left_edge.dir.x > 0.0, "{:?}", left_edge.dir);
         let top_edge = camera.ray(100.0, 0.0);
@@ -214,7 +224,7 @@ mod tests {
 
     #[test]
     fn vertical_field_of_view_is_exact() {
-        let camera = Camera::look_at(Vec3::ZERO, Vec3::Z, Vec3::Y, 60.0, 300, 100).unwrap();
+        let camera = Pinhole::look_at(Vec3::ZERO, Vec3::Z, Vec3::Y, 60.0, 300, 100).unwrap();
         let top = camera.ray(150.0, 0.0).dir;
         assert!((top.y.atan2(top.z).to_degrees() - 30.0).abs() < 1e-4);
         // Horizontal half-angle follows the 3:1 aspect ratio: atan(3·tan 30°).
@@ -226,16 +236,16 @@ mod tests {
     #[test]
     fn degenerate_cameras_are_rejected() {
         assert_eq!(
-            Camera::look_at(Vec3::ONE, Vec3::ONE, Vec3::Y, 60.0, 1, 1),
+            Pinhole::look_at(Vec3::ONE, Vec3::ONE, Vec3::Y, 60.0, 1, 1),
             Err(CameraError::NoViewDirection)
         );
-        assert_eq!(Camera::look_at(Vec3::ZERO, Vec3::Y, Vec3::Y, 60.0, 1, 1), Err(CameraError::UpParallel));
+        assert_eq!(Pinhole::look_at(Vec3::ZERO, Vec3::Y, Vec3::Y, 60.0, 1, 1), Err(CameraError::UpParallel));
         assert_eq!(
-            Camera::look_at(Vec3::ZERO, Vec3::Z, Vec3::ZERO, 60.0, 1, 1),
+            Pinhole::look_at(Vec3::ZERO, Vec3::Z, Vec3::ZERO, 60.0, 1, 1),
             Err(CameraError::UpParallel)
         );
         assert_eq!(
-            Camera::look_at(Vec3::ZERO, Vec3::Z, Vec3::Y, 180.0, 1, 1),
+            Pinhole::look_at(Vec3::ZERO, Vec3::Z, Vec3::Y, 180.0, 1, 1),
             Err(CameraError::FieldOfView(180.0))
         );
     }
@@ -246,7 +256,7 @@ mod tests {
     /// pixel's solid angle Ω_pixel computed here from its four corner rays.
     #[test]
     fn project_inverts_ray_and_gives_the_pixel_solid_angle() {
-        let camera = Camera::look_at(Vec3::ZERO, Vec3::Z, Vec3::Y, 50.0, 64, 48).unwrap();
+        let camera = Pinhole::look_at(Vec3::ZERO, Vec3::Z, Vec3::Y, 50.0, 64, 48).unwrap();
         for (x, y) in [(10.5f32, 40.5f32), (32.5, 24.5), (63.5, 0.5)] {
             let ray = camera.ray(x, y);
             let point = ray.at(7.0);
@@ -274,7 +284,7 @@ mod tests {
 
     #[test]
     fn stokes_frame_is_image_right_and_up_for_the_receiver() {
-        let camera = Camera::look_at(Vec3::ZERO, Vec3::Z, Vec3::Y, 60.0, 200, 100).unwrap();
+        let camera = Pinhole::look_at(Vec3::ZERO, Vec3::Z, Vec3::Y, 60.0, 200, 100).unwrap();
         let centre = camera.ray(100.0, 50.0);
         let x = camera.stokes_x(centre.dir);
         // Image right is world −x here (see the test above); y = (−dir) × x is image up.
