@@ -17,11 +17,14 @@ use serde_json::Value;
 
 const LENSES: [&str; 3] = ["singlet_nbk7", "achromat", "dgauss50"];
 
-/// First-order numbers: relative tolerance of the issue. Both sides are f64 computations of
-/// the same paraxial trace; what separates them is rounding (measured ≤ 2e-15 relative by the
-/// fixture's own independent trace) and rayoptics' pupil positions, computed from a chief ray
-/// on an object plane 1e10 mm away (up to 1e-7 relative).
-const FIRST_ORDER_RELATIVE: f64 = 1e-6;
+/// First-order numbers, relative to the focal length: far inside the issue's 1e-6. Both sides
+/// are f64 computations of the same paraxial trace, separated by rounding (measured ≤ 2e-15
+/// relative by the fixture's own independent trace).
+const FIRST_ORDER_RELATIVE: f64 = 1e-12;
+/// Pupil positions and the exit pupil's diameter: rayoptics computes them from a chief ray on
+/// an object plane 1e10 mm away, which cancels to ~1e-7 of the focal length (the fixture's
+/// README); still inside the issue's 1e-6.
+const PUPIL_RELATIVE: f64 = 1e-7;
 
 fn fixture(name: &str) -> Value {
     let path =
@@ -44,8 +47,12 @@ fn vec3(value: &Value) -> DVec3 {
 }
 
 fn close(what: &str, ours: f64, theirs: f64, scale: f64) -> Result<(), String> {
+    within(what, ours, theirs, scale, FIRST_ORDER_RELATIVE)
+}
+
+fn within(what: &str, ours: f64, theirs: f64, scale: f64, tolerance: f64) -> Result<(), String> {
     let error = (ours - theirs).abs() / scale;
-    if error <= FIRST_ORDER_RELATIVE {
+    if error <= tolerance {
         Ok(())
     } else {
         Err(format!("{what}: prisma {ours} vs rayoptics {theirs} ({error:.2e} of {scale})"))
@@ -65,19 +72,27 @@ fn first_order(system: &LensSystem, fixture: &Value) -> Result<(), String> {
         // rayoptics gives the front focus's z relative to the first vertex; prisma the
         // distance from the front focus to the first vertex.
         close(&at("FFL"), -p.ffl_mm, f(&row["ffl_mm"]), scale)?;
-        close(&at("entrance pupil z"), p.entrance_pupil_z_mm, f(&row["entrance_pupil_z_mm"]), scale)?;
+        within(
+            &at("entrance pupil z"),
+            p.entrance_pupil_z_mm,
+            f(&row["entrance_pupil_z_mm"]),
+            scale,
+            PUPIL_RELATIVE,
+        )?;
         close(
             &at("entrance pupil diameter"),
             p.entrance_pupil_diameter_mm,
             f(&row["entrance_pupil_diameter_mm"]),
             scale,
         )?;
-        close(&at("exit pupil z"), p.exit_pupil_z_mm, f(&row["exit_pupil_z_from_last_mm"]), scale)?;
-        close(
+        let exit_z = f(&row["exit_pupil_z_from_last_mm"]);
+        within(&at("exit pupil z"), p.exit_pupil_z_mm, exit_z, scale, PUPIL_RELATIVE)?;
+        within(
             &at("exit pupil diameter"),
             p.exit_pupil_diameter_mm,
             f(&row["exit_pupil_diameter_mm"]),
             scale,
+            PUPIL_RELATIVE,
         )?;
         close(&at("f-number"), p.f_number, f(&row["f_number"]), f(&row["f_number"]))?;
         let shift = system.chromatic_focal_shift_mm(lambda, f64::INFINITY).map_err(|e| e.to_string())?;
@@ -101,8 +116,8 @@ fn first_order_optics_match_rayoptics_for_both_formats() {
 
 /// Every listed real ray (chief, marginal and skew rays at 0, 0.7 and 1.0 of the field, six
 /// wavelengths) traced from the same start point and direction: the image intercept and exit
-/// direction within 1e-6 of the focal length (measured: ≤ 1e-12 mm), and the same verdict on
-/// vignetting.
+/// direction within 1e-11 of the focal length (the issue asks 1e-6; measured ≤ 7e-14 mm: f64
+/// rounding), and the same verdict on vignetting.
 #[test]
 fn real_rays_match_rayoptics() {
     for name in LENSES {
@@ -118,9 +133,15 @@ fn real_rays_match_rayoptics() {
                 lambda,
             );
             let passes = ray["passes_apertures"].as_bool().expect("passes_apertures");
+            // Marginal rays aimed exactly at the stop's rim pass or not by rounding (their
+            // margin is ±2e-15 mm in rayoptics): no verdict on those, only their intercepts.
+            let on_rim = f(&ray["min_aperture_margin_mm"]).abs() < 1e-9;
             match traced {
                 Ok(traced) => {
-                    assert!(passes, "{name}: prisma lets through a ray rayoptics finds vignetted: {ray}");
+                    assert!(
+                        passes || on_rim,
+                        "{name}: prisma lets through a ray rayoptics finds vignetted: {ray}"
+                    );
                     let image = [f(&ray["image_mm"][0]), f(&ray["image_mm"][1])];
                     let exit = vec3(&ray["exit_direction"]);
                     let error = (traced.ray.origin.x - image[0])
@@ -128,7 +149,7 @@ fn real_rays_match_rayoptics() {
                         .max((traced.ray.origin.y - image[1]).abs())
                         .max(scale * (traced.ray.dir - exit).abs().max_element());
                     worst = worst.max(error);
-                    assert!(error <= 1e-6 * scale, "{name}: {error} mm off for {ray}");
+                    assert!(error <= 1e-11 * scale, "{name}: {error} mm off for {ray}");
                 }
                 Err(blocked) => {
                     assert!(!passes, "{name}: prisma blocks ({blocked:?}) a ray rayoptics passes: {ray}")
