@@ -104,15 +104,36 @@ impl PixelRng {
     #[inline]
     pub fn uniform(&mut self) -> f32 {
         if self.used == GROUP {
-            self.group += 1;
-            let group_seed = self.sequence_seed ^ (mix64(u64::from(self.group)) as u32);
-            self.values = sobol_burley::sample_4d(self.index, 0, group_seed);
-            self.used = 0;
+            self.next_group();
         }
         let value = self.values[self.used];
         self.used += 1;
         debug_assert!((0.0..1.0).contains(&value), "sample value {value} outside [0, 1)");
         value
+    }
+}
+
+impl PixelRng {
+    /// A pair of values stratified jointly in 2D over the pixel's samples: the first two
+    /// dimensions of a fresh padded group (a (0, 2)-sequence under the group's own scramble and
+    /// index shuffle), whatever is left of the current group skipped. [`Self::uniform`] after it
+    /// continues with the group's third dimension. A pair from [`Self::uniform`] alone would
+    /// straddle two groups wherever the dimensions before it are not a multiple of four, and be
+    /// stratified in each dimension only, not jointly.
+    #[inline]
+    pub fn uniform_2d(&mut self) -> (f32, f32) {
+        self.next_group();
+        self.used = 2;
+        (self.values[0], self.values[1])
+    }
+
+    /// Moves to the next padded group of four dimensions.
+    #[inline]
+    fn next_group(&mut self) {
+        self.group += 1;
+        let group_seed = self.sequence_seed ^ (mix64(u64::from(self.group)) as u32);
+        self.values = sobol_burley::sample_4d(self.index, 0, group_seed);
+        self.used = 0;
     }
 }
 

@@ -88,6 +88,9 @@ pub struct PathTracer<'a> {
     light_tracer_counts_caustics: bool,
     /// True when the background radiance is non-zero somewhere: it is then a light.
     background_lights: bool,
+    /// The probability with which a diffuse vertex draws a next-event direction toward the
+    /// background (1, or 0 where the scene probe found it hidden: [`background_selection`]).
+    background_selection: f32,
     /// True when some material is a polariser or retarder (shadow rays look through them).
     has_sheets: bool,
     /// Each glass's index at a monochromatic render's wavelength.
@@ -137,13 +140,15 @@ impl<'a> PathTracer<'a> {
         area_light_samples: u32,
         light_tracer_counts_caustics: bool,
     ) -> Self {
+        let background_lights = scene.background.values().iter().any(|&v| v > 0.0);
         Self {
             scene,
             max_depth,
             area_light_samples: area_light_samples.max(1),
             fault: None,
             light_tracer_counts_caustics,
-            background_lights: scene.background.values().iter().any(|&v| v > 0.0),
+            background_lights,
+            background_selection: if background_lights { background_selection(scene) } else { 0.0 },
             has_sheets: scene.materials.iter().any(Material::is_filter),
             indices: MonochromaticIndices::default(),
             only_specular_eye_caustics: false,
@@ -356,7 +361,7 @@ impl<'a> PathTracer<'a> {
             _ if self.fault == Some(Fault::DarkBackground) && state.diffuse_seen => 0.0,
             Previous::Camera | Previous::Specular => 1.0,
             Previous::Diffuse { .. } if self.fault == Some(Fault::MisWeightsUnnormalized) => 1.0,
-            Previous::Diffuse { pdf, .. } => power_heuristic(pdf, BACKGROUND_PDF),
+            Previous::Diffuse { pdf, .. } => power_heuristic(pdf, self.background_selection * BACKGROUND_PDF),
         };
         if weight <= 0.0 {
             return B::zero();
@@ -415,7 +420,7 @@ impl<'a> PathTracer<'a> {
                 }
                 Light::Quad(quad) => {
                     let count = self.area_light_samples;
-                    let shift = (rng.uniform(), rng.uniform());
+                    let shift = rng.uniform_2d();
                     for index in 0..count {
                         let Some(sample) = quad.sample(hit.point, index, count, shift) else { continue };
                         let Some((w, s)) = arriving(&sample, stats) else { continue };
@@ -436,14 +441,19 @@ impl<'a> PathTracer<'a> {
                 radiance += light.emitted().sample(wavelengths) * sum;
             }
         }
-        if self.background_lights && self.fault != Some(Fault::DarkBackground) {
-            let to_light = uniform_sphere((rng.uniform(), rng.uniform()));
-            let sample = LightSample { to_light, distance: f32::INFINITY, weight: 1.0 / BACKGROUND_PDF };
-            if let Some((w, s)) = arriving(&sample, stats) {
+        // The background's direction, drawn with probability `background_selection` (a
+        // scene constant, so the dimensions taken do not depend on the path).
+        let selection = self.background_selection;
+        if self.background_lights && selection > 0.0 && self.fault != Some(Fault::DarkBackground) {
+            let to_light = uniform_sphere(rng.uniform_2d());
+            let selected = selection >= 1.0 || rng.uniform() < selection;
+            let pdf = selection * BACKGROUND_PDF;
+            let sample = LightSample { to_light, distance: f32::INFINITY, weight: 1.0 / pdf };
+            if let Some((w, s)) = selected.then(|| arriving(&sample, stats)).flatten() {
                 let mis = if self.fault == Some(Fault::MisWeightsUnnormalized) {
                     1.0
                 } else {
-                    power_heuristic(BACKGROUND_PDF, Diffuse::pdf(shading_normal, to_light))
+                    power_heuristic(pdf, Diffuse::pdf(shading_normal, to_light))
                 };
                 radiance += self.scene.background.sample(wavelengths) * s * (w * mis);
             }
@@ -496,7 +506,7 @@ impl<'a> PathTracer<'a> {
     ) -> bool {
         let to_viewer = -state.ray.dir;
         let (normal, shading_normal) = facing(hit, to_viewer);
-        let (dir, pdf) = Diffuse::sample(shading_normal, (rng.uniform(), rng.uniform()));
+        let (dir, pdf) = Diffuse::sample(shading_normal, rng.uniform_2d());
         let cos_theta = shading_normal.dot(dir);
         if pdf.is_nan() || pdf <= 0.0 || normal.dot(dir) <= 0.0 {
             return false;
@@ -656,6 +666,71 @@ impl<'a> PathTracer<'a> {
             }
         }
         continued
+    }
+}
+
+/// Camera rays of the scene probe ([`background_selection`]): a grid of this many columns and
+/// rows over the whole image.
+const PROBE_GRID: u32 = 32;
+/// Diffuse vertices a probe path visits at most.
+const PROBE_BOUNCES: u32 = 3;
+/// Diffuse vertices the probe must find for its verdict to count: fewer (a scene seen mostly
+/// through glass or mirrors) keep the background's next-event estimation.
+const PROBE_MIN_VERTICES: u32 = 256;
+/// The probe's seed (the probe depends on the scene alone, not on the render's seed).
+const PROBE_SEED: u64 = 0x0b5e_55ed;
+
+/// The probability with which next-event estimation at a diffuse vertex draws a direction toward
+/// the background: 0 when none of the directions drawn uniformly over the sphere at the diffuse
+/// vertices of a few deterministic camera paths (a [`PROBE_GRID`]² grid over the image, up to
+/// [`PROBE_BOUNCES`] cosine-sampled diffuse bounces each) escapes to it, 1 otherwise.
+///
+/// Any probability keeps the estimate unbiased: a diffuse vertex's cosine-weighted BSDF sampling
+/// reaches every direction its next-event estimation can, and the background met by it is
+/// weighted against the density `probability`·1/(4π) (weight 1 when it is 0). In a closed room
+/// whose open side is seen along a set of directions of measure zero (TP6's infinite walls) the
+/// background's shadow ray is found blocked every time: the probe saves it. Scenes with sheets,
+/// and scenes where the probe finds fewer than [`PROBE_MIN_VERTICES`] diffuse vertices, keep 1.
+fn background_selection(scene: &Scene) -> f32 {
+    if scene.materials.iter().any(Material::is_filter) {
+        return 1.0;
+    }
+    let camera = &scene.camera;
+    let (mut vertices, mut escapes) = (0u32, 0u32);
+    for gy in 0..PROBE_GRID {
+        for gx in 0..PROBE_GRID {
+            let mut rng = PixelRng::new(PROBE_SEED, gx, gy, 0);
+            let (jx, jy) = (rng.uniform(), rng.uniform());
+            let x = (gx as f32 + jx) * camera.width() as f32 / PROBE_GRID as f32;
+            let y = (gy as f32 + jy) * camera.height() as f32 / PROBE_GRID as f32;
+            let mut ray = camera.ray(x, y);
+            for _ in 0..PROBE_BOUNCES {
+                let Some(hit) = scene.geometry.intersect(&ray, f32::INFINITY) else { break };
+                let surface = scene.surfaces[hit.prim as usize];
+                if !matches!(scene.materials[surface.material as usize], Material::Diffuse(_)) {
+                    break;
+                }
+                let (normal, shading_normal) = facing(&hit, -ray.dir);
+                vertices += 1;
+                let to_sky = uniform_sphere(rng.uniform_2d());
+                if normal.dot(to_sky) > 0.0 && shading_normal.dot(to_sky) > 0.0 {
+                    let shadow = Ray::new(spawn_origin(hit.point, normal, to_sky), to_sky);
+                    if !scene.geometry.occluded(&shadow, f32::INFINITY) {
+                        escapes += 1;
+                    }
+                }
+                let (dir, pdf) = Diffuse::sample(shading_normal, rng.uniform_2d());
+                if pdf.is_nan() || pdf <= 0.0 || normal.dot(dir) <= 0.0 {
+                    break;
+                }
+                ray = Ray::new(spawn_origin(hit.point, normal, dir), dir);
+            }
+        }
+    }
+    if vertices >= PROBE_MIN_VERTICES && escapes == 0 {
+        0.0
+    } else {
+        1.0
     }
 }
 
