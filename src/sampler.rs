@@ -127,6 +127,16 @@ impl PixelRng {
         (self.values[0], self.values[1])
     }
 
+    /// The four dimensions of a fresh padded group (jointly a 4D Sobol net under the group's own
+    /// scramble and index shuffle; the first two a (0, 2)-sequence), whatever is left of the
+    /// current group skipped.
+    #[inline]
+    pub fn uniform_4d(&mut self) -> [f32; GROUP] {
+        self.next_group();
+        self.used = GROUP;
+        self.values
+    }
+
     /// Moves to the next padded group of four dimensions.
     #[inline]
     fn next_group(&mut self) {
