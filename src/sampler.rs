@@ -12,7 +12,10 @@
 //!
 //! Dimensions are handed out in order by [`PixelRng::uniform`]: the renderer takes the pixel
 //! position (dimensions 0 and 1) and the wavelength ([`WAVELENGTH_DIMENSION`], 2); the
-//! integrator takes the rest (light sample shifts, Russian roulette) in the order it needs them.
+//! integrator takes the rest (light sample shifts, Russian roulette) in the order it needs them,
+//! one at a time, or a fresh padded group's first two or all four ([`PixelRng::uniform_2d`],
+//! [`PixelRng::uniform_4d`]) where values must be stratified jointly (the path tracer's
+//! directions).
 //! The first four dimensions are the sequence in its own order, Owen-scrambled, except the
 //! wavelength's, which is **digitally shifted** instead (one random XOR mask per pixel): the
 //! first 2^m values of an unscrambled Sobol dimension are the multiples of 2^−m, and the mask

@@ -43,16 +43,24 @@
 //! # Diffuse vertices
 //! Next-event estimation toward every light (points, spots and beams once; quad lights by
 //! `area_light_samples` stratified points, as Whitted samples them; the background by one
-//! direction drawn uniformly over the sphere), then one direction drawn with the cosine density
-//! ([`Diffuse::sample`]) whose weight is f·cos θ/pdf = ρ·(Oren–Nayar's factor). Where a
+//! direction drawn uniformly over the sphere, unless a probe of the scene found it hidden from
+//! the diffuse surfaces: [`background_selection`]), then one direction drawn with the cosine
+//! density ([`Diffuse::sample`]) whose weight is f·cos θ/pdf = ρ·(Oren–Nayar's factor). Where a
 //! drawn direction meets a quad light or escapes to the background, the hit is weighted by the
 //! power heuristic against the light sampling that could have made it, with the multi-sample
-//! rule for quads (`n` light samples against one BSDF sample).
+//! rule for quads (`n` light samples against one BSDF sample), and against the background's
+//! density times the probability of drawing it at all (weight 1 when it is never drawn).
+//!
+//! Each diffuse vertex takes one padded group of four sampler dimensions
+//! ([`PixelRng::uniform_4d`]): the drawn direction on the first two, stratified jointly in 2D
+//! over the pixel's samples, and the first quad light's point on the other two. (Taken one at a
+//! time, the pairs straddled groups and were stratified per dimension only: relMSE × spp on TP6
+//! with its quad light stayed at 0.052 from 16 to 1024 spp; validation/bench/RESULTS.md.)
 //!
 //! # Depth and roulette
 //! `max_depth` bounces of any kind (diffuse, mirror, glass; a sheet counts as one, as in
-//! Whitted). From the third bounce on, a path whose response is below 1 at every lane
-//! survives with probability equal to its strongest lane, and is divided by it: unbiased.
+//! Whitted). From the third bounce on, a path whose strongest lane's response r is below 1/4
+//! survives with probability 4r, and is divided by it: unbiased ([`ROULETTE_SCALE`]).
 
 use glam::Vec3;
 
@@ -303,8 +311,8 @@ impl<'a> PathTracer<'a> {
         }
     }
 
-    /// Russian roulette from the third bounce on: a path whose response is below 1 at every
-    /// live lane survives with probability equal to its strongest lane, divided by it.
+    /// Russian roulette from the third bounce on: a path whose strongest live lane's response r
+    /// is below 1/[`ROULETTE_SCALE`] survives with probability [`ROULETTE_SCALE`]·r, divided by it.
     fn survives<B: PathBeam>(&self, state: &mut PathState<B::Response>, rng: &mut PixelRng) -> bool {
         let strongest = state.response.strength().max_value();
         if strongest.is_nan() || strongest <= 0.0 {
