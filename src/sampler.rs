@@ -437,6 +437,53 @@ mod tests {
     }
 
     #[test]
+    fn pairs_of_fresh_groups_are_stratified_jointly_in_2d() {
+        // After any number of single dimensions, a pair from `uniform_2d` and the pairs of a
+        // `uniform_4d` group put one of 64 samples in each 8 × 8 cell (and `uniform_2d`'s pair
+        // in each 2 × 32 and 32 × 2 cell too: a (0, 2)-sequence); pairs from `uniform` alone
+        // that straddle two groups do not (checked: dimensions 3 and 4, as the path tracer once
+        // took them).
+        for skipped in [3, 4, 5, 6] {
+            let pairs: Vec<[f32; 6]> = (0..64)
+                .map(|k| {
+                    let mut rng = PixelRng::new(5, 17, 4, k);
+                    (0..skipped).for_each(|_| {
+                        rng.uniform();
+                    });
+                    let (a, b) = rng.uniform_2d();
+                    let [c, d, e, f] = rng.uniform_4d();
+                    [a, b, c, d, e, f]
+                })
+                .collect();
+            for (first, (nx, ny)) in [(0, (8, 8)), (0, (2, 32)), (0, (32, 2)), (2, (8, 8)), (4, (8, 8))] {
+                let mut cells = vec![0u32; 64];
+                for p in &pairs {
+                    let (i, j) = ((p[first] * nx as f32) as usize, (p[first + 1] * ny as f32) as usize);
+                    cells[i * ny + j] += 1;
+                }
+                assert!(
+                    cells.iter().all(|&c| c == 1),
+                    "after {skipped}: pair {first}, {nx} × {ny}: {cells:?}"
+                );
+            }
+        }
+        let straddling: Vec<(f32, f32)> = (0..64)
+            .map(|k| {
+                let mut rng = PixelRng::new(5, 17, 4, k);
+                (0..3).for_each(|_| {
+                    rng.uniform();
+                });
+                (rng.uniform(), rng.uniform())
+            })
+            .collect();
+        let mut cells = vec![0u32; 64];
+        for (u, v) in &straddling {
+            cells[(u * 8.0) as usize * 8 + (v * 8.0) as usize] += 1;
+        }
+        assert!(cells.iter().any(|&c| c != 1), "dimensions 3 and 4 happen to be stratified jointly");
+    }
+
+    #[test]
     fn wavelength_offsets_of_a_pixel_lie_on_an_evenly_spaced_grid() {
         // The first 2^m samples' wavelength values are j/2^m + c for one c < 2^-m: exactly evenly
         // spaced (an Owen-scrambled dimension would jitter each inside its 1/2^m), for every

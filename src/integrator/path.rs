@@ -802,6 +802,43 @@ mod tests {
         assert_eq!(power_heuristic(1.0, f32::INFINITY), 0.0);
     }
 
+    /// The scene probe: TP6's room of infinite planes hides its open rear from every diffuse
+    /// surface (0: the background's shadow ray is never traced), a floor under an open sky does
+    /// not (1), and a scene with no diffuse surface in view keeps the background's sampling.
+    #[test]
+    fn the_probe_skips_the_background_only_where_it_is_hidden() {
+        let parse = |text: &str| {
+            crate::scene::parse(text, std::path::Path::new("probe.toml")).unwrap_or_else(|e| panic!("{e}"))
+        };
+        let room = parse(include_str!("../../scenes/tp6_quad.toml"));
+        assert_eq!(background_selection(&room), 0.0);
+        let floor = r#"
+            background = { rgb = [0.3, 0.3, 0.3] }
+            [camera]
+            position = [0, 2, -6]
+            look_at = [0, 0, 0]
+            up = [0, 1, 0]
+            fov_y_deg = 60
+            width = 64
+            height = 48
+            [materials.grey]
+            type = "diffuse"
+            albedo = { rgb = [0.5, 0.5, 0.5] }
+            [[shapes]]
+            type = "plane"
+            point = [0, 0, 0]
+            normal = [0, 1, 0]
+            material = "grey"
+        "#;
+        assert_eq!(background_selection(&parse(floor)), 1.0);
+        let mirror = floor.replace(
+            "type = \"diffuse\"\n            albedo = { rgb = [0.5, 0.5, 0.5] }",
+            "type = \"mirror\"",
+        );
+        assert_ne!(mirror, floor);
+        assert_eq!(background_selection(&parse(&mirror)), 1.0);
+    }
+
     #[test]
     fn uniform_sphere_directions_are_unit_and_cover_both_poles() {
         let mut z_sum = 0.0f64;
