@@ -262,7 +262,7 @@ impl<'a> PathTracer<'a> {
                     // dimensions (a (0, 2)-sequence), the first quad light's point on the other two.
                     let [bsdf_u1, bsdf_u2, quad_u1, quad_u2] = rng.uniform_4d();
                     let quad_u = Some((quad_u1, quad_u2));
-                    light += self.next_event::<B>(&state, diffuse, hit, wavelengths, rng, stats, quad_u);
+                    light += self.next_event::<B>(&state, (diffuse, hit), wavelengths, rng, stats, quad_u);
                     self.diffuse_bounce::<B>(&mut state, diffuse, hit, wavelengths, (bsdf_u1, bsdf_u2))
                 }
                 Material::Mirror(mirror) => {
@@ -394,8 +394,7 @@ impl<'a> PathTracer<'a> {
     fn next_event<B: PathBeam>(
         &self,
         state: &PathState<B::Response>,
-        diffuse: &Diffuse,
-        hit: &Hit,
+        (diffuse, hit): (&Diffuse, &Hit),
         wavelengths: &SampledWavelengths,
         rng: &mut PixelRng,
         stats: &mut TraceStats,
