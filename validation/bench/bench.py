@@ -43,7 +43,12 @@ Run from the repository root after validation/setup.sh and `cargo build --releas
    takes as long as the second), so each sampler is warmed up once, at 4 spp; its three samplers
    run to 1024 spp, and multijitter again with the background left out of its light sampling
    (TRANSPORT_RENDERERS), and the fastest of the four to 4096. Also prisma's 1 → 2 thread scaling and peak
-   memory (/usr/bin/time -v), and the load average at the start and end of the run.
+   memory (/usr/bin/time -v), and the load average at the start and end of the run. Each render's
+   CPU time is recorded beside its wall time (prisma's whole process from getrusage, Mitsuba's
+   render calls from this process's CPU clock, all threads), and the times to equal error are
+   given in both: on a machine whose cores other processes share, CPU time is the steadier
+   measure. --samplers and --max-spp run part of the race (some of Mitsuba's configurations, no
+   count above a cap: the long run is skipped when it is above it).
 """
 
 import argparse
