@@ -12,7 +12,10 @@
 //!
 //! Dimensions are handed out in order by [`PixelRng::uniform`]: the renderer takes the pixel
 //! position (dimensions 0 and 1) and the wavelength ([`WAVELENGTH_DIMENSION`], 2); the
-//! integrator takes the rest (light sample shifts, Russian roulette) in the order it needs them.
+//! integrator takes the rest (light sample shifts, Russian roulette) in the order it needs them,
+//! one at a time, or a fresh padded group's first two or all four ([`PixelRng::uniform_2d`],
+//! [`PixelRng::uniform_4d`]) where values must be stratified jointly (the path tracer's
+//! directions).
 //! The first four dimensions are the sequence in its own order, Owen-scrambled, except the
 //! wavelength's, which is **digitally shifted** instead (one random XOR mask per pixel): the
 //! first 2^m values of an unscrambled Sobol dimension are the multiples of 2^−m, and the mask
@@ -104,15 +107,46 @@ impl PixelRng {
     #[inline]
     pub fn uniform(&mut self) -> f32 {
         if self.used == GROUP {
-            self.group += 1;
-            let group_seed = self.sequence_seed ^ (mix64(u64::from(self.group)) as u32);
-            self.values = sobol_burley::sample_4d(self.index, 0, group_seed);
-            self.used = 0;
+            self.next_group();
         }
         let value = self.values[self.used];
         self.used += 1;
         debug_assert!((0.0..1.0).contains(&value), "sample value {value} outside [0, 1)");
         value
+    }
+}
+
+impl PixelRng {
+    /// A pair of values stratified jointly in 2D over the pixel's samples: the first two
+    /// dimensions of a fresh padded group (a (0, 2)-sequence under the group's own scramble and
+    /// index shuffle), whatever is left of the current group skipped. [`Self::uniform`] after it
+    /// continues with the group's third dimension. A pair from [`Self::uniform`] alone would
+    /// straddle two groups wherever the dimensions before it are not a multiple of four, and be
+    /// stratified in each dimension only, not jointly.
+    #[inline]
+    pub fn uniform_2d(&mut self) -> (f32, f32) {
+        self.next_group();
+        self.used = 2;
+        (self.values[0], self.values[1])
+    }
+
+    /// The four dimensions of a fresh padded group (jointly a 4D Sobol net under the group's own
+    /// scramble and index shuffle; the first two a (0, 2)-sequence), whatever is left of the
+    /// current group skipped.
+    #[inline]
+    pub fn uniform_4d(&mut self) -> [f32; GROUP] {
+        self.next_group();
+        self.used = GROUP;
+        self.values
+    }
+
+    /// Moves to the next padded group of four dimensions.
+    #[inline]
+    fn next_group(&mut self) {
+        self.group += 1;
+        let group_seed = self.sequence_seed ^ (mix64(u64::from(self.group)) as u32);
+        self.values = sobol_burley::sample_4d(self.index, 0, group_seed);
+        self.used = 0;
     }
 }
 
@@ -400,6 +434,53 @@ mod tests {
             }
             assert!(cells.iter().all(|&c| c == 1), "dimension {dim}: {cells:?}");
         }
+    }
+
+    #[test]
+    fn pairs_of_fresh_groups_are_stratified_jointly_in_2d() {
+        // After any number of single dimensions, a pair from `uniform_2d` and the pairs of a
+        // `uniform_4d` group put one of 64 samples in each 8 × 8 cell (and `uniform_2d`'s pair
+        // in each 2 × 32 and 32 × 2 cell too: a (0, 2)-sequence); pairs from `uniform` alone
+        // that straddle two groups do not (checked: dimensions 3 and 4, as the path tracer once
+        // took them).
+        for skipped in [3, 4, 5, 6] {
+            let pairs: Vec<[f32; 6]> = (0..64)
+                .map(|k| {
+                    let mut rng = PixelRng::new(5, 17, 4, k);
+                    (0..skipped).for_each(|_| {
+                        rng.uniform();
+                    });
+                    let (a, b) = rng.uniform_2d();
+                    let [c, d, e, f] = rng.uniform_4d();
+                    [a, b, c, d, e, f]
+                })
+                .collect();
+            for (first, (nx, ny)) in [(0, (8, 8)), (0, (2, 32)), (0, (32, 2)), (2, (8, 8)), (4, (8, 8))] {
+                let mut cells = vec![0u32; 64];
+                for p in &pairs {
+                    let (i, j) = ((p[first] * nx as f32) as usize, (p[first + 1] * ny as f32) as usize);
+                    cells[i * ny + j] += 1;
+                }
+                assert!(
+                    cells.iter().all(|&c| c == 1),
+                    "after {skipped}: pair {first}, {nx} × {ny}: {cells:?}"
+                );
+            }
+        }
+        let straddling: Vec<(f32, f32)> = (0..64)
+            .map(|k| {
+                let mut rng = PixelRng::new(5, 17, 4, k);
+                (0..3).for_each(|_| {
+                    rng.uniform();
+                });
+                (rng.uniform(), rng.uniform())
+            })
+            .collect();
+        let mut cells = vec![0u32; 64];
+        for (u, v) in &straddling {
+            cells[(u * 8.0) as usize * 8 + (v * 8.0) as usize] += 1;
+        }
+        assert!(cells.iter().any(|&c| c != 1), "dimensions 3 and 4 happen to be stratified jointly");
     }
 
     #[test]

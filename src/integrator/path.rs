@@ -43,16 +43,24 @@
 //! # Diffuse vertices
 //! Next-event estimation toward every light (points, spots and beams once; quad lights by
 //! `area_light_samples` stratified points, as Whitted samples them; the background by one
-//! direction drawn uniformly over the sphere), then one direction drawn with the cosine density
-//! ([`Diffuse::sample`]) whose weight is f·cos θ/pdf = ρ·(Oren–Nayar's factor). Where a
+//! direction drawn uniformly over the sphere, unless a probe of the scene found it hidden from
+//! the diffuse surfaces: [`background_selection`]), then one direction drawn with the cosine
+//! density ([`Diffuse::sample`]) whose weight is f·cos θ/pdf = ρ·(Oren–Nayar's factor). Where a
 //! drawn direction meets a quad light or escapes to the background, the hit is weighted by the
 //! power heuristic against the light sampling that could have made it, with the multi-sample
-//! rule for quads (`n` light samples against one BSDF sample).
+//! rule for quads (`n` light samples against one BSDF sample), and against the background's
+//! density times the probability of drawing it at all (weight 1 when it is never drawn).
+//!
+//! Each diffuse vertex takes one padded group of four sampler dimensions
+//! ([`PixelRng::uniform_4d`]): the drawn direction on the first two, stratified jointly in 2D
+//! over the pixel's samples, and the first quad light's point on the other two. (Taken one at a
+//! time, the pairs straddled groups and were stratified per dimension only: relMSE × spp on TP6
+//! with its quad light stayed at 0.052 from 16 to 1024 spp; validation/bench/RESULTS.md.)
 //!
 //! # Depth and roulette
 //! `max_depth` bounces of any kind (diffuse, mirror, glass; a sheet counts as one, as in
-//! Whitted). From the third bounce on, a path whose response is below 1 at every lane
-//! survives with probability equal to its strongest lane, and is divided by it: unbiased.
+//! Whitted). From the third bounce on, a path whose strongest lane's response r is below 1/4
+//! survives with probability 4r, and is divided by it: unbiased ([`ROULETTE_SCALE`]).
 
 use glam::Vec3;
 
@@ -74,6 +82,13 @@ use crate::spectrum::{SampledSpectrum, SampledWavelengths, N_LAMBDA};
 
 /// Bounces after which Russian roulette may end a path.
 const ROULETTE_AFTER_BOUNCES: u32 = 3;
+/// A path past [`ROULETTE_AFTER_BOUNCES`] survives roulette with probability this times its
+/// strongest lane's response (at most 1): only paths carrying less than a quarter of what the
+/// camera gives them are thinned. Measured on TP6 with its quad light (150×100, 64 spp, relMSE ×
+/// render time against the converged reference, validation/bench/RESULTS.md): 1 (survival equal to
+/// the response, as pbrt's rule) 16.6, 2 14.0, 3 13.4, **4 13.0**, 8 13.5; starting after 5
+/// bounces with 1 15.9 (Mitsuba's rule), with 2 15.4.
+const ROULETTE_SCALE: f32 = 4.0;
 /// The density of the background's next-event direction, uniform over the sphere: 1/(4π) sr⁻¹.
 const BACKGROUND_PDF: f32 = 1.0 / (4.0 * std::f32::consts::PI);
 
@@ -88,6 +103,9 @@ pub struct PathTracer<'a> {
     light_tracer_counts_caustics: bool,
     /// True when the background radiance is non-zero somewhere: it is then a light.
     background_lights: bool,
+    /// The probability with which a diffuse vertex draws a next-event direction toward the
+    /// background (1, or 0 where the scene probe found it hidden: [`background_selection`]).
+    background_selection: f32,
     /// True when some material is a polariser or retarder (shadow rays look through them).
     has_sheets: bool,
     /// Each glass's index at a monochromatic render's wavelength.
@@ -137,13 +155,15 @@ impl<'a> PathTracer<'a> {
         area_light_samples: u32,
         light_tracer_counts_caustics: bool,
     ) -> Self {
+        let background_lights = scene.background.values().iter().any(|&v| v > 0.0);
         Self {
             scene,
             max_depth,
             area_light_samples: area_light_samples.max(1),
             fault: None,
             light_tracer_counts_caustics,
-            background_lights: scene.background.values().iter().any(|&v| v > 0.0),
+            background_lights,
+            background_selection: if background_lights { background_selection(scene) } else { 0.0 },
             has_sheets: scene.materials.iter().any(Material::is_filter),
             indices: MonochromaticIndices::default(),
             only_specular_eye_caustics: false,
@@ -238,8 +258,12 @@ impl<'a> PathTracer<'a> {
             let continues = match material {
                 Material::Black => false,
                 Material::Diffuse(diffuse) => {
-                    light += self.next_event::<B>(&state, diffuse, hit, wavelengths, rng, stats);
-                    self.diffuse_bounce::<B>(&mut state, diffuse, hit, wavelengths, rng)
+                    // One padded group per diffuse vertex: the drawn direction on its first two
+                    // dimensions (a (0, 2)-sequence), the first quad light's point on the other two.
+                    let [bsdf_u1, bsdf_u2, quad_u1, quad_u2] = rng.uniform_4d();
+                    let quad_u = Some((quad_u1, quad_u2));
+                    light += self.next_event::<B>(&state, (diffuse, hit), wavelengths, rng, stats, quad_u);
+                    self.diffuse_bounce::<B>(&mut state, diffuse, hit, wavelengths, (bsdf_u1, bsdf_u2))
                 }
                 Material::Mirror(mirror) => {
                     let cos_theta_i = state.ray.dir.dot(hit.shading_normal);
@@ -287,20 +311,21 @@ impl<'a> PathTracer<'a> {
         }
     }
 
-    /// Russian roulette from the third bounce on: a path whose response is below 1 at every
-    /// live lane survives with probability equal to its strongest lane, divided by it.
+    /// Russian roulette from the third bounce on: a path whose strongest live lane's response r
+    /// is below 1/[`ROULETTE_SCALE`] survives with probability [`ROULETTE_SCALE`]·r, divided by it.
     fn survives<B: PathBeam>(&self, state: &mut PathState<B::Response>, rng: &mut PixelRng) -> bool {
         let strongest = state.response.strength().max_value();
         if strongest.is_nan() || strongest <= 0.0 {
             return false;
         }
-        if state.depth < ROULETTE_AFTER_BOUNCES || strongest >= 1.0 {
+        let survival = strongest * ROULETTE_SCALE;
+        if state.depth < ROULETTE_AFTER_BOUNCES || survival >= 1.0 {
             return true;
         }
-        if rng.uniform() >= strongest {
+        if rng.uniform() >= survival {
             return false;
         }
-        state.response = state.response.scaled(SampledSpectrum::splat(1.0 / strongest));
+        state.response = state.response.scaled(SampledSpectrum::splat(1.0 / survival));
         true
     }
 
@@ -356,7 +381,7 @@ impl<'a> PathTracer<'a> {
             _ if self.fault == Some(Fault::DarkBackground) && state.diffuse_seen => 0.0,
             Previous::Camera | Previous::Specular => 1.0,
             Previous::Diffuse { .. } if self.fault == Some(Fault::MisWeightsUnnormalized) => 1.0,
-            Previous::Diffuse { pdf, .. } => power_heuristic(pdf, BACKGROUND_PDF),
+            Previous::Diffuse { pdf, .. } => power_heuristic(pdf, self.background_selection * BACKGROUND_PDF),
         };
         if weight <= 0.0 {
             return B::zero();
@@ -369,11 +394,11 @@ impl<'a> PathTracer<'a> {
     fn next_event<B: PathBeam>(
         &self,
         state: &PathState<B::Response>,
-        diffuse: &Diffuse,
-        hit: &Hit,
+        (diffuse, hit): (&Diffuse, &Hit),
         wavelengths: &SampledWavelengths,
         rng: &mut PixelRng,
         stats: &mut TraceStats,
+        mut quad_u: Option<(f32, f32)>,
     ) -> B {
         if self.only_specular_eye_caustics {
             return B::zero();
@@ -415,7 +440,7 @@ impl<'a> PathTracer<'a> {
                 }
                 Light::Quad(quad) => {
                     let count = self.area_light_samples;
-                    let shift = (rng.uniform(), rng.uniform());
+                    let shift = quad_u.take().unwrap_or_else(|| rng.uniform_2d());
                     for index in 0..count {
                         let Some(sample) = quad.sample(hit.point, index, count, shift) else { continue };
                         let Some((w, s)) = arriving(&sample, stats) else { continue };
@@ -436,14 +461,19 @@ impl<'a> PathTracer<'a> {
                 radiance += light.emitted().sample(wavelengths) * sum;
             }
         }
-        if self.background_lights && self.fault != Some(Fault::DarkBackground) {
-            let to_light = uniform_sphere((rng.uniform(), rng.uniform()));
-            let sample = LightSample { to_light, distance: f32::INFINITY, weight: 1.0 / BACKGROUND_PDF };
-            if let Some((w, s)) = arriving(&sample, stats) {
+        // The background's direction, drawn with probability `background_selection` (a
+        // scene constant, so the dimensions taken do not depend on the path).
+        let selection = self.background_selection;
+        if self.background_lights && selection > 0.0 && self.fault != Some(Fault::DarkBackground) {
+            let to_light = uniform_sphere(rng.uniform_2d());
+            let selected = selection >= 1.0 || rng.uniform() < selection;
+            let pdf = selection * BACKGROUND_PDF;
+            let sample = LightSample { to_light, distance: f32::INFINITY, weight: 1.0 / pdf };
+            if let Some((w, s)) = selected.then(|| arriving(&sample, stats)).flatten() {
                 let mis = if self.fault == Some(Fault::MisWeightsUnnormalized) {
                     1.0
                 } else {
-                    power_heuristic(BACKGROUND_PDF, Diffuse::pdf(shading_normal, to_light))
+                    power_heuristic(pdf, Diffuse::pdf(shading_normal, to_light))
                 };
                 radiance += self.scene.background.sample(wavelengths) * s * (w * mis);
             }
@@ -492,11 +522,11 @@ impl<'a> PathTracer<'a> {
         diffuse: &Diffuse,
         hit: &Hit,
         wavelengths: &SampledWavelengths,
-        rng: &mut PixelRng,
+        u: (f32, f32),
     ) -> bool {
         let to_viewer = -state.ray.dir;
         let (normal, shading_normal) = facing(hit, to_viewer);
-        let (dir, pdf) = Diffuse::sample(shading_normal, (rng.uniform(), rng.uniform()));
+        let (dir, pdf) = Diffuse::sample(shading_normal, u);
         let cos_theta = shading_normal.dot(dir);
         if pdf.is_nan() || pdf <= 0.0 || normal.dot(dir) <= 0.0 {
             return false;
@@ -659,6 +689,71 @@ impl<'a> PathTracer<'a> {
     }
 }
 
+/// Camera rays of the scene probe ([`background_selection`]): a grid of this many columns and
+/// rows over the whole image.
+const PROBE_GRID: u32 = 32;
+/// Diffuse vertices a probe path visits at most.
+const PROBE_BOUNCES: u32 = 3;
+/// Diffuse vertices the probe must find for its verdict to count: fewer (a scene seen mostly
+/// through glass or mirrors) keep the background's next-event estimation.
+const PROBE_MIN_VERTICES: u32 = 256;
+/// The probe's seed (the probe depends on the scene alone, not on the render's seed).
+const PROBE_SEED: u64 = 0x0b5e_55ed;
+
+/// The probability with which next-event estimation at a diffuse vertex draws a direction toward
+/// the background: 0 when none of the directions drawn uniformly over the sphere at the diffuse
+/// vertices of a few deterministic camera paths (a [`PROBE_GRID`]² grid over the image, up to
+/// [`PROBE_BOUNCES`] cosine-sampled diffuse bounces each) escapes to it, 1 otherwise.
+///
+/// Any probability keeps the estimate unbiased: a diffuse vertex's cosine-weighted BSDF sampling
+/// reaches every direction its next-event estimation can, and the background met by it is
+/// weighted against the density `probability`·1/(4π) (weight 1 when it is 0). In a closed room
+/// whose open side is seen along a set of directions of measure zero (TP6's infinite walls) the
+/// background's shadow ray is found blocked every time: the probe saves it. Scenes with sheets,
+/// and scenes where the probe finds fewer than [`PROBE_MIN_VERTICES`] diffuse vertices, keep 1.
+fn background_selection(scene: &Scene) -> f32 {
+    if scene.materials.iter().any(Material::is_filter) {
+        return 1.0;
+    }
+    let camera = &scene.camera;
+    let (mut vertices, mut escapes) = (0u32, 0u32);
+    for gy in 0..PROBE_GRID {
+        for gx in 0..PROBE_GRID {
+            let mut rng = PixelRng::new(PROBE_SEED, gx, gy, 0);
+            let (jx, jy) = (rng.uniform(), rng.uniform());
+            let x = (gx as f32 + jx) * camera.width() as f32 / PROBE_GRID as f32;
+            let y = (gy as f32 + jy) * camera.height() as f32 / PROBE_GRID as f32;
+            let mut ray = camera.ray(x, y);
+            for _ in 0..PROBE_BOUNCES {
+                let Some(hit) = scene.geometry.intersect(&ray, f32::INFINITY) else { break };
+                let surface = scene.surfaces[hit.prim as usize];
+                if !matches!(scene.materials[surface.material as usize], Material::Diffuse(_)) {
+                    break;
+                }
+                let (normal, shading_normal) = facing(&hit, -ray.dir);
+                vertices += 1;
+                let to_sky = uniform_sphere(rng.uniform_2d());
+                if normal.dot(to_sky) > 0.0 && shading_normal.dot(to_sky) > 0.0 {
+                    let shadow = Ray::new(spawn_origin(hit.point, normal, to_sky), to_sky);
+                    if !scene.geometry.occluded(&shadow, f32::INFINITY) {
+                        escapes += 1;
+                    }
+                }
+                let (dir, pdf) = Diffuse::sample(shading_normal, rng.uniform_2d());
+                if pdf.is_nan() || pdf <= 0.0 || normal.dot(dir) <= 0.0 {
+                    break;
+                }
+                ray = Ray::new(spawn_origin(hit.point, normal, dir), dir);
+            }
+        }
+    }
+    if vertices >= PROBE_MIN_VERTICES && escapes == 0 {
+        0.0
+    } else {
+        1.0
+    }
+}
+
 /// The geometric and shading normals on the side of `to_viewer`.
 #[inline]
 fn facing(hit: &Hit, to_viewer: Vec3) -> (Vec3, Vec3) {
@@ -704,6 +799,43 @@ mod tests {
         }
         assert_eq!(power_heuristic(0.0, 1.0), 0.0);
         assert_eq!(power_heuristic(1.0, f32::INFINITY), 0.0);
+    }
+
+    /// The scene probe: TP6's room of infinite planes hides its open rear from every diffuse
+    /// surface (0: the background's shadow ray is never traced), a floor under an open sky does
+    /// not (1), and a scene with no diffuse surface in view keeps the background's sampling.
+    #[test]
+    fn the_probe_skips_the_background_only_where_it_is_hidden() {
+        let parse = |text: &str| {
+            crate::scene::parse(text, std::path::Path::new("probe.toml")).unwrap_or_else(|e| panic!("{e}"))
+        };
+        let room = parse(include_str!("../../scenes/tp6_quad.toml"));
+        assert_eq!(background_selection(&room), 0.0);
+        let floor = r#"
+            background = { rgb = [0.3, 0.3, 0.3] }
+            [camera]
+            position = [0, 2, -6]
+            look_at = [0, 0, 0]
+            up = [0, 1, 0]
+            fov_y_deg = 60
+            width = 64
+            height = 48
+            [materials.grey]
+            type = "diffuse"
+            albedo = { rgb = [0.5, 0.5, 0.5] }
+            [[shapes]]
+            type = "plane"
+            point = [0, 0, 0]
+            normal = [0, 1, 0]
+            material = "grey"
+        "#;
+        assert_eq!(background_selection(&parse(floor)), 1.0);
+        let mirror = floor.replace(
+            "type = \"diffuse\"\n            albedo = { rgb = [0.5, 0.5, 0.5] }",
+            "type = \"mirror\"",
+        );
+        assert_ne!(mirror, floor);
+        assert_eq!(background_selection(&parse(&mirror)), 1.0);
     }
 
     #[test]

@@ -43,7 +43,12 @@ Run from the repository root after validation/setup.sh and `cargo build --releas
    takes as long as the second), so each sampler is warmed up once, at 4 spp; its three samplers
    run to 1024 spp, and multijitter again with the background left out of its light sampling
    (TRANSPORT_RENDERERS), and the fastest of the four to 4096. Also prisma's 1 → 2 thread scaling and peak
-   memory (/usr/bin/time -v), and the load average at the start and end of the run.
+   memory (/usr/bin/time -v), and the load average at the start and end of the run. Each render's
+   CPU time is recorded beside its wall time (prisma's whole process from getrusage, Mitsuba's
+   render calls from this process's CPU clock, all threads), and the times to equal error are
+   given in both: on a machine whose cores other processes share, CPU time is the steadier
+   measure. --samplers and --max-spp run part of the race (some of Mitsuba's configurations, no
+   count above a cap: the long run is skipped when it is above it).
 """
 
 import argparse
@@ -249,11 +254,15 @@ def prisma_render(prisma, scene, spp, out_dir, mode_flag, extra_args=(), with_st
     # SETTLE_SECONDS in caustics_bench.py). The repeats follow one another without Dr.Jit work.
     time.sleep(0.5)
     for _ in range(timing_repeats(spp)):
+        before = resource.getrusage(resource.RUSAGE_CHILDREN)
         start = time.perf_counter()
         subprocess.run([prisma, "render", str(scene), "--spp", str(spp), "-o", str(out), "--quiet", "--seed",
                         "7", "--stats", str(stats), mode_flag, *extra_args], check=True)
         wall = time.perf_counter() - start
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
         figures = json.loads(stats.read_text())
+        # CPU time of the whole process (loading and writing included), all threads.
+        figures["cpu_seconds"] = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
         if (figures["render_seconds"], wall) < best[:2]:
             best = (figures["render_seconds"], wall, figures)
     image = read_exr(out, ["R", "G", "B"])
@@ -362,7 +371,7 @@ def transport_reference():
 
 
 def mitsuba_transport_renders(variant, sampler, prisma, scene_path, levels, export_dir):
-    """[(spp, render seconds, image)] of Mitsuba's full-transport path tracer at each sample count,
+    """[(spp, render seconds, image, CPU seconds)] of Mitsuba's full-transport path tracer at each sample count,
     the scene loaded once and compiled by a first 4-spp render (not timed: the kernels do not
     depend on the sample count). `sampler` is a Mitsuba sampler's name or QUAD_ONLY. Each
     count's time is the best of `timing_repeats` renders at seeds 11, 12, …; its image is the
@@ -380,19 +389,21 @@ def mitsuba_transport_renders(variant, sampler, prisma, scene_path, levels, expo
     film = mitsuba_scene.sensors()[0].film()
     out = []
     for spp in levels:
-        timings, first = [], None
+        timings, cpu, first = [], [], None
         for k in range(timing_repeats(spp)):
-            start = time.perf_counter()
+            start, start_cpu = time.perf_counter(), time.process_time()
             image = mi.render(mitsuba_scene, spp=spp, seed=11 + k)
             dr.eval(image)
             dr.sync_thread()
             timings.append(time.perf_counter() - start)
+            # CPU time of this process's threads (Dr.Jit's workers render).
+            cpu.append(time.process_time() - start_cpu)
             if first is None:
                 first = np.array(image, dtype=np.float64)
         actual = int(sampler_object.sample_count())
         channels = [film.bitmap().struct_()[i].name for i in range(first.shape[-1])]
         rgb, names = translate.prisma_rgb(first, channels)
-        out.append((actual, min(timings), np.stack([rgb[..., names.index(c)] for c in "RGB"], -1)))
+        out.append((actual, min(timings), np.stack([rgb[..., names.index(c)] for c in "RGB"], -1), min(cpu)))
         print(f"transport {variant} {sampler} spp {actual}: {min(timings):.3f} s", flush=True)
     return out
 
@@ -428,37 +439,43 @@ def transport(args, prisma):
     pixels = reference.shape[0] * reference.shape[1]
     started = load_text()
     print(f"transport: reference noise {floor:.3e}; start {started}", flush=True)
-    quick = (lambda levels: [spp for spp in levels if spp <= 16]) if args.quick else (lambda levels: levels)
+    cap = 16 if args.quick else (args.max_spp or float("inf"))
+    quick = lambda levels: [spp for spp in levels if spp <= cap]  # noqa: E731
+    renderers = [r for r in TRANSPORT_RENDERERS if r[0] == "prisma" or args.samplers is None or r[1] in args.samplers]
     results = {}
+    cpu = {}
     with tempfile.TemporaryDirectory() as tmp:
         tmp = pathlib.Path(tmp)
         for mode in args.modes:
             flag, llvm_variant, _, _ = MODES[mode]
             # (renderer, sampler) -> [(spp, render seconds, process wall or None, relMSE, stats or None)]
             result = {}
-            for renderer, sampler, levels in TRANSPORT_RENDERERS:
+            for renderer, sampler, levels in renderers:
                 if renderer == "prisma":
                     for spp in quick(levels):
                         seconds, wall, image, figures = prisma_render(prisma, scene_path, spp, tmp, flag,
                                                                       ("--integrator", "path"), with_stats=True)
                         error = rel_mse(image, reference) - floor
                         result.setdefault(("prisma", sampler), []).append((spp, seconds, wall, error, figures))
+                        cpu[mode, ("prisma", sampler), spp] = figures["cpu_seconds"]
                         print(f"transport {mode} prisma spp {spp}: {seconds:.3f} s, relMSE {error:.3e}", flush=True)
                 else:
-                    for spp, seconds, image in mitsuba_transport_renders(llvm_variant, sampler, prisma, scene_path,
-                                                                         quick(levels), tmp / "export"):
+                    for spp, seconds, image, cpu_seconds in mitsuba_transport_renders(
+                            llvm_variant, sampler, prisma, scene_path, quick(levels), tmp / "export"):
                         error = rel_mse(image, reference) - floor
                         result.setdefault((llvm_variant, sampler), []).append((spp, seconds, None, error, None))
+                        cpu[mode, (llvm_variant, sampler), spp] = cpu_seconds
                         print(f"transport {mode} {llvm_variant} {sampler} spp {spp}: relMSE {error:.3e}", flush=True)
             # The sampler that reaches the last common error soonest goes on to TRANSPORT_LONG_SPP.
             mitsuba_keys = [k for k in result if k[0] == llvm_variant]
             last = max(min(e for _, _, _, e, _ in result[k]) for k in mitsuba_keys)
             fastest = min(mitsuba_keys, key=lambda k: time_to_error([(p[1], p[3]) for p in result[k]], last)[0])
             long_spp = 64 if args.quick else TRANSPORT_LONG_SPP
-            for spp, seconds, image in mitsuba_transport_renders(llvm_variant, fastest[1], prisma, scene_path,
-                                                                 [long_spp], tmp / "export"):
+            for spp, seconds, image, cpu_seconds in mitsuba_transport_renders(
+                    llvm_variant, fastest[1], prisma, scene_path, quick([long_spp]), tmp / "export"):
                 error = rel_mse(image, reference) - floor
                 result[fastest].append((spp, seconds, None, error, None))
+                cpu[mode, fastest, spp] = cpu_seconds
                 print(f"transport {mode} {llvm_variant} {fastest[1]} spp {spp}: relMSE {error:.3e}", flush=True)
             results[mode] = result
         # prisma's thread scaling and peak memory, in alternating rounds.
@@ -503,15 +520,16 @@ def transport(args, prisma):
     for mode, result in results.items():
         flag, llvm_variant, _, _ = MODES[mode]
         lines += [f"### {mode}: prisma `{flag}` against `{llvm_variant}`", "",
-                  "| renderer | sampler | spp | render time (s) | process wall (s) | samples/s | Mrays/s | "
+                  "| renderer | sampler | spp | render time (s) | process wall (s) | CPU time (s) | samples/s | Mrays/s | "
                   "rays/sample | relMSE | relMSE × spp |",
-                  "|---|---|---|---|---|---|---|---|---|---|"]
+                  "|---|---|---|---|---|---|---|---|---|---|---|"]
         for (renderer, sampler), points in result.items():
             for spp, seconds, wall, error, figures in sorted(points, key=lambda p: p[0]):
                 rays = (f"{figures['rays'] / seconds * 1e-6:.2f} | {figures['rays'] / figures['samples']:.2f}"
                         if figures else "– | –")
                 lines.append(f"| {renderer} | {sampler} | {spp} | {seconds:.3f} | "
-                             f"{f'{wall:.2f}' if wall is not None else '–'} | {pixels * spp / seconds:,.0f} | "
+                             f"{f'{wall:.2f}' if wall is not None else '–'} | {cpu[mode, (renderer, sampler), spp]:.2f} | "
+                             f"{pixels * spp / seconds:,.0f} | "
                              f"{rays} | {error:.3e} | {error * spp:.3g} |")
         lines += ["", "Time to reach equal error (seconds, interpolated log-log between the measured points; "
                   "* extrapolated beyond them):", "",
@@ -537,6 +555,33 @@ def transport(args, prisma):
                 lines.append(f"- relMSE {target:.0e}: prisma {times[prisma_key, target][0]:.3g} s, Mitsuba "
                              f"{mitsuba[best][0]:.3g} s (`{best[1]}`){' (extrapolated)' if marked else ''}: prisma "
                              f"is **{ratio:.2f}×** as fast as Mitsuba's fastest configuration.")
+        # The same race in CPU time (all threads; prisma's whole process, Mitsuba's render calls):
+        # less sensitive than wall time to other processes sharing the cores.
+        lines += ["", "In CPU time (prisma's whole process, loading and writing included; Mitsuba's render calls; all "
+                  "threads; interpolated as above):", "",
+                  "| renderer | sampler | " + " | ".join(f"relMSE {t:.0e}" for t in TRANSPORT_TARGETS) + " |",
+                  "|---|---|" + "---|" * len(TRANSPORT_TARGETS)]
+        cpu_times = {}
+        for key, points in result.items():
+            cells = []
+            for target in TRANSPORT_TARGETS:
+                t, extrapolated = time_to_error([(cpu[mode, key, p[0]], p[3]) for p in points], target)
+                cpu_times[key, target] = (t, extrapolated)
+                cells.append(f"{t:.3g}{'*' if extrapolated else ''}")
+            lines.append(f"| {key[0]} | {key[1]} | " + " | ".join(cells) + " |")
+        lines.append("")
+        for target in TRANSPORT_TARGETS:
+            mitsuba = {k: cpu_times[k, target] for k in result
+                       if k[0] == llvm_variant and np.isfinite(cpu_times[k, target][0])}
+            if mitsuba and np.isfinite(cpu_times[prisma_key, target][0]):
+                best = min(mitsuba, key=lambda k: mitsuba[k][0])
+                ratio = mitsuba[best][0] / cpu_times[prisma_key, target][0]
+                marked = mitsuba[best][1] or cpu_times[prisma_key, target][1]
+                summary[mode, target, "cpu"] = (ratio, cpu_times[prisma_key, target][0], mitsuba[best][0], best[1],
+                                                marked)
+                lines.append(f"- relMSE {target:.0e}, CPU time: prisma {cpu_times[prisma_key, target][0]:.3g} s, "
+                             f"Mitsuba {mitsuba[best][0]:.3g} s (`{best[1]}`){' (extrapolated)' if marked else ''}: "
+                             f"prisma is **{ratio:.2f}×** as fast as Mitsuba's fastest configuration.")
         # Where the ratio comes from: time per sample and error per sample, at the largest sample
         # counts both ran (errors there are furthest above the reference's noise).
         prisma_points = sorted(result[prisma_key])
@@ -591,14 +636,18 @@ def main():
     parser.add_argument("--transport", action="store_true",
                         help="full transport only (TP6's quad light, prisma path vs Mitsuba path); replaces "
                              "that section of --out and leaves the rest of it")
+    parser.add_argument("--samplers", nargs="+", choices=[r[1] for r in TRANSPORT_RENDERERS if r[0] != "prisma"],
+                        help="--transport: only these of Mitsuba's configurations (all by default)")
+    parser.add_argument("--max-spp", type=int,
+                        help="--transport: no sample count above this, for either renderer (none by default)")
     args = parser.parse_args()
     prisma = translate.find_prisma()
     if args.transport:
         lines, summary = transport(args, prisma)
         write_transport_section(args.out, lines)
         print("\n".join(lines))
-        for (mode, target), (ratio, p, m, sampler, marked) in summary.items():
-            print(f"headline: {mode} relMSE {target:.0e}: {ratio:.2f}x (prisma {p:.3g} s, Mitsuba {sampler} {m:.3g} s"
+        for (mode, target, *cpu), (ratio, p, m, sampler, marked) in summary.items():
+            print(f"headline: {mode} relMSE {target:.0e}{' CPU' if cpu else ''}: {ratio:.2f}x (prisma {p:.3g} s, Mitsuba {sampler} {m:.3g} s"
                   f"{', extrapolated' if marked else ''})")
         return
     rng = np.random.default_rng(1)
