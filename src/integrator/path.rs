@@ -768,14 +768,14 @@ fn facing(hit: &Hit, to_viewer: Vec3) -> (Vec3, Vec3) {
 /// technique's density `other` at the same direction.
 #[inline]
 fn power_heuristic(chosen: f32, other: f32) -> f32 {
-    let (a, b) = (chosen * chosen, other * other);
-    if a.is_nan() || a <= 0.0 {
+    // As 1/(1 + (other/chosen)²): the squares of the densities themselves overflow f32 for a
+    // light seen at a grazing angle from far away (a floor hit 6e7 m out at the horizon gives
+    // p_light ≈ d²/(cos θ·A) ≈ 1e23 sr⁻¹), and ∞/∞ would be NaN.
+    if chosen.is_nan() || chosen <= 0.0 || !other.is_finite() {
         return 0.0;
     }
-    if !b.is_finite() {
-        return 0.0;
-    }
-    a / (a + b)
+    let ratio = other / chosen;
+    1.0 / (1.0 + ratio * ratio)
 }
 
 /// A direction drawn uniformly over the unit sphere from two uniform numbers in [0, 1).
@@ -793,7 +793,7 @@ mod tests {
 
     #[test]
     fn power_heuristic_weights_add_to_one() {
-        for (a, b) in [(0.3f32, 0.7f32), (1.0, 1e-3), (5.0, 5.0)] {
+        for (a, b) in [(0.3f32, 0.7f32), (1.0, 1e-3), (5.0, 5.0), (1e23, 1.0), (1e-30, 1e30)] {
             let sum = power_heuristic(a, b) + power_heuristic(b, a);
             assert!((sum - 1.0).abs() < 1e-6, "{a} {b}: {sum}");
         }
