@@ -300,3 +300,41 @@ fn the_coated_validation_case_passes_and_catches_the_faults() {
         assert!(!passes(Some(fault)), "{fault:?} was not caught");
     }
 }
+
+/// Bad coatings on mirrors and bad absorbing layers are one-line load errors naming the field.
+#[test]
+fn bad_metal_coatings_are_rejected() {
+    let scene = |material: &str| {
+        format!(
+            "[camera]\nposition = [0, 1, -5]\nlook_at = [0, 0, 0]\nfov_y_deg = 40\nwidth = 4\nheight = 4\n\
+             [materials.coated]\n{material}\n\
+             [[shapes]]\ntype = \"plane\"\npoint = [0, 0, 0]\nnormal = [0, 1, 0]\nmaterial = \"coated\"\n"
+        )
+    };
+    let layer = |body: &str| format!("type = \"mirror\"\nmetal = \"gold\"\ncoating = [{{ {body} }}]");
+    for (material, expected) in [
+        (
+            "type = \"mirror\"\ncoating = [{ ior = 1.38, thickness_nm = 100 }]".to_string(),
+            "materials.coated.coating",
+        ),
+        (layer("metal = \"unobtainium\", thickness_nm = 10"), "materials.coated.coating[0].metal"),
+        (layer("complex_ior = [0.2, -1], thickness_nm = 10"), "materials.coated.coating[0].complex_ior"),
+        (layer("complex_ior = [0, 3], thickness_nm = 10"), "materials.coated.coating[0].complex_ior"),
+        (layer("ior = 1.4, metal = \"gold\", thickness_nm = 10"), "materials.coated.coating[0]"),
+        (layer("thickness_nm = 10"), "materials.coated.coating[0]"),
+        (layer("metal = \"silver\", thickness_nm = -1"), "materials.coated.coating[0].thickness_nm"),
+        (
+            "type = \"dielectric\"\nior = 1.5\ncoating = [{ metal = \"au\", thickness_nm = 2e5 }]".to_string(),
+            "materials.coated.coating[0].thickness_nm",
+        ),
+    ] {
+        let error = match prisma::scene::parse(&scene(&material), Path::new("bad.toml")) {
+            Ok(_) => panic!("accepted: {material}"),
+            Err(error) => error.to_string(),
+        };
+        assert!(error.contains(expected) && !error.contains('\n'), "{material}: {error}");
+    }
+    // The chemical symbol names a metal too, in a layer as in a mirror.
+    let good = scene("type = \"dielectric\"\nior = 1.5\ncoating = [{ metal = \"Au\", thickness_nm = 10 }]");
+    assert!(prisma::scene::parse(&good, Path::new("good.toml")).is_ok());
+}
