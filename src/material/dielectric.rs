@@ -206,11 +206,15 @@ impl Dielectric {
             cos_theta_i,
             fault,
         );
-        // An amplitude of modulus √T with the phase of t (1 where t = 0: T is 0 there too).
+        // An amplitude of modulus √T with the phase of t: t·√(T/|t|²) (1 where t = 0: T is 0
+        // there too).
         let flux_amplitude = |t: Complex64, transmittance: f64| {
-            let norm = t.norm();
-            let phase = if norm > 0.0 { t / norm } else { Complex64::new(1.0, 0.0) };
-            narrow(phase * transmittance.max(0.0).sqrt())
+            let norm_sqr = t.norm_sqr();
+            if norm_sqr > 0.0 {
+                narrow(t * (transmittance.max(0.0) / norm_sqr).sqrt())
+            } else {
+                Complex32::new(transmittance.max(0.0).sqrt() as f32, 0.0)
+            }
         };
         CoatedInterface {
             reflection: JonesDiagonal::new(narrow(stack.r_s), narrow(stack.r_p)),
