@@ -51,8 +51,9 @@ struct Surface {
 /// 100 nm of SiO₂ on gold of constant index 0.18 + 3.43i (the tmm fixture's stack).
 fn silica_on_gold() -> Surface {
     Surface {
-        material: "type = \"mirror\"\ncomplex_ior = [0.18, 3.43]\ncoating = [{ ior = 1.46, thickness_nm = 100 }]"
-            .into(),
+        material:
+            "type = \"mirror\"\ncomplex_ior = [0.18, 3.43]\ncoating = [{ ior = 1.46, thickness_nm = 100 }]"
+                .into(),
         layers: vec![Layer::dielectric(1.46, 100.0)],
         substrate: Complex64::new(0.18, 3.43),
     }
@@ -89,8 +90,9 @@ fn gold_film_on_glass() -> Surface {
 /// A constant complex layer index on a plain glass (n + ik = 2.0 + 0.5i, 30 nm).
 fn lossy_layer_on_glass() -> Surface {
     Surface {
-        material: "type = \"dielectric\"\nior = 1.5\ncoating = [{ complex_ior = [2.0, 0.5], thickness_nm = 30 }]"
-            .into(),
+        material:
+            "type = \"dielectric\"\nior = 1.5\ncoating = [{ complex_ior = [2.0, 0.5], thickness_nm = 30 }]"
+                .into(),
         layers: vec![Layer { index: Complex64::new(2.0, 0.5), thickness_nm: 30.0 }],
         substrate: Complex64::new(1.5, 0.0),
     }
@@ -176,7 +178,13 @@ fn expected(surface: &Surface, theta_deg: f64, sheet: bool) -> Vec<[f64; 4]> {
 }
 
 /// The rendered Stokes vectors per pixel (S1–S3 zero when unpolarised).
-fn rendered(surface: &Surface, theta_deg: f64, polarized: bool, sheet: bool, fault: Option<Fault>) -> Vec<[f64; 4]> {
+fn rendered(
+    surface: &Surface,
+    theta_deg: f64,
+    polarized: bool,
+    sheet: bool,
+    fault: Option<Fault>,
+) -> Vec<[f64; 4]> {
     let text = scene_text(surface, theta_deg, polarized, sheet);
     let scene = prisma::scene::parse(&text, Path::new("<coated_mirror>")).expect("the scene loads");
     let job = Job {
@@ -237,7 +245,10 @@ fn coated_surfaces_reflect_the_stack_per_pixel_in_all_four_stokes_parameters() {
                         "{name} {theta_deg}° sheet={sheet} polarized={polarized}: S0 {s0:.2e}, S_k/S0 {ratio:.2e}"
                     );
                     assert!(s0 < TOLERANCE, "{name} {theta_deg}° sheet={sheet}: S0 off by {s0:.3e}");
-                    assert!(ratio < TOLERANCE, "{name} {theta_deg}° sheet={sheet}: S_k/S0 off by {ratio:.3e}");
+                    assert!(
+                        ratio < TOLERANCE,
+                        "{name} {theta_deg}° sheet={sheet}: S_k/S0 off by {ratio:.3e}"
+                    );
                 }
             }
         }
@@ -296,7 +307,9 @@ fn the_coated_validation_case_passes_and_catches_the_faults() {
         result.passed()
     };
     assert!(passes(None));
-    for fault in [Fault::CoatingPhaseDropped, Fault::CoatingSpSwapped, Fault::FlippedPhase, Fault::Unpolarized] {
+    for fault in
+        [Fault::CoatingPhaseDropped, Fault::CoatingSpSwapped, Fault::FlippedPhase, Fault::Unpolarized]
+    {
         assert!(!passes(Some(fault)), "{fault:?} was not caught");
     }
 }
@@ -324,7 +337,8 @@ fn bad_metal_coatings_are_rejected() {
         (layer("thickness_nm = 10"), "materials.coated.coating[0]"),
         (layer("metal = \"silver\", thickness_nm = -1"), "materials.coated.coating[0].thickness_nm"),
         (
-            "type = \"dielectric\"\nior = 1.5\ncoating = [{ metal = \"au\", thickness_nm = 2e5 }]".to_string(),
+            "type = \"dielectric\"\nior = 1.5\ncoating = [{ metal = \"au\", thickness_nm = 2e5 }]"
+                .to_string(),
             "materials.coated.coating[0].thickness_nm",
         ),
     ] {

@@ -235,10 +235,7 @@ mod tests {
         Dielectric {
             ior: Ior::Constant(1.5),
             absorption: None,
-            coating: layers
-                .iter()
-                .map(|&(n, d)| CoatingLayer::dielectric(Ior::Constant(n), d))
-                .collect(),
+            coating: layers.iter().map(|&(n, d)| CoatingLayer::dielectric(Ior::Constant(n), d)).collect(),
         }
     }
 

@@ -171,7 +171,11 @@ mod tests {
 
     fn at(metal: &str, lambda_nm: f32, cos_theta: f32) -> f32 {
         let entry = metals::metal(metal).unwrap_or_else(|| panic!("{metal} missing from the catalogue"));
-        let mirror = Mirror { reflectance: DenseSpectrum::constant(1.0), conductor: Conductor::Metal(entry), coating: Vec::new() };
+        let mirror = Mirror {
+            reflectance: DenseSpectrum::constant(1.0),
+            conductor: Conductor::Metal(entry),
+            coating: Vec::new(),
+        };
         mirror.reflectance(cos_theta, &SampledWavelengths::monochromatic(lambda_nm), None)[0]
     }
 
@@ -190,7 +194,11 @@ mod tests {
 
     #[test]
     fn plain_mirror_ignores_angle() {
-        let mirror = Mirror { reflectance: DenseSpectrum::constant(0.7), conductor: Conductor::Perfect, coating: Vec::new() };
+        let mirror = Mirror {
+            reflectance: DenseSpectrum::constant(0.7),
+            conductor: Conductor::Perfect,
+            coating: Vec::new(),
+        };
         let wavelengths = SampledWavelengths::monochromatic(500.0);
         assert_eq!(mirror.reflectance(0.2, &wavelengths, None)[0], 0.7);
         assert_eq!(mirror.reflectance(-1.0, &wavelengths, None)[0], 0.7);
@@ -214,5 +222,56 @@ mod tests {
                 }
             }
         }
+    }
+
+    fn coated(conductor: Conductor, layers: &[(f32, f32)]) -> Mirror {
+        let coating = layers
+            .iter()
+            .map(|&(n, d)| CoatingLayer::dielectric(crate::optics::Ior::Constant(n), d))
+            .collect();
+        Mirror { reflectance: DenseSpectrum::constant(1.0), conductor, coating }
+    }
+
+    /// A layer of the vacuum's own index on a metal only delays both amplitudes alike: the
+    /// reflectances and the Mueller matrix's a, b (and |w|) are the bare metal's.
+    #[test]
+    fn a_vacuum_layer_on_a_metal_changes_no_power() {
+        let wavelengths = SampledWavelengths::sample_visible(0.7, 8);
+        for conductor in
+            [Conductor::Index(Complex32::new(0.18, 3.43)), Conductor::Metal(metals::metal("silver").unwrap())]
+        {
+            let bare = coated(conductor, &[]);
+            let vacuum = coated(conductor, &[(1.0, 180.0)]);
+            for cos in [1.0_f32, 0.7, 0.2] {
+                let (m_bare, m_vacuum) =
+                    (bare.mueller(cos, &wavelengths, None), vacuum.mueller(cos, &wavelengths, None));
+                for lane in 0..N_LAMBDA {
+                    assert!((m_bare.a[lane] - m_vacuum.a[lane]).abs() < 1e-5, "{conductor:?} cos {cos}");
+                    assert!((m_bare.b[lane] - m_vacuum.b[lane]).abs() < 1e-5, "{conductor:?} cos {cos}");
+                }
+            }
+        }
+    }
+
+    /// A quarter wave of n₁ on a substrate n_s + ik_s at normal incidence reflects
+    /// |(n₁² − ñ_s)/(n₁² + ñ_s)|² (Macleod §2.5, the quarter wave's admittance n₁²/ñ_s): 1.46
+    /// on 0.18 + 3.43i at 550 nm reflects 0.9103 where the bare metal reflects 0.9453; the
+    /// unpolarised reflectance is the Mueller a, and the perfect conductor ignores a coating.
+    #[test]
+    fn a_quarter_wave_on_a_metal_meets_the_closed_form() {
+        let eta = Complex32::new(0.18, 3.43);
+        let mirror = coated(Conductor::Index(eta), &[(1.46, 550.0 / (4.0 * 1.46))]);
+        let wavelengths = SampledWavelengths::monochromatic(550.0);
+        let n1_sqr = 1.46_f64 * 1.46;
+        // In the e^{+iωt} convention the substrate's index is n − ik; |·| is the same either way.
+        let substrate = num_complex::Complex64::new(0.18, -3.43);
+        let expected = ((n1_sqr - substrate) / (n1_sqr + substrate)).norm_sqr();
+        let seen = mirror.reflectance(1.0, &wavelengths, None)[0];
+        // f32 rounding of the index, thickness and result: ~1e-7.
+        assert!((f64::from(seen) - expected).abs() < 1e-6, "{seen} vs {expected}");
+        assert!((expected - 0.910_292_5).abs() < 1e-7, "{expected}");
+        assert!((mirror.mueller(1.0, &wavelengths, None).a[0] - seen).abs() < 1e-7);
+        let perfect = coated(Conductor::Perfect, &[(1.46, 94.2)]);
+        assert_eq!(perfect.mueller(0.5, &wavelengths, None).a[0], 1.0);
     }
 }

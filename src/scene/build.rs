@@ -342,7 +342,8 @@ impl Builder<'_> {
                     }
                     (None, None) => Conductor::Perfect,
                 };
-                let coating = self.coating(coating.as_deref().unwrap_or(&[]), span.clone(), &field("coating"))?;
+                let coating =
+                    self.coating(coating.as_deref().unwrap_or(&[]), span.clone(), &field("coating"))?;
                 if !coating.is_empty() && conductor == Conductor::Perfect {
                     return Err(self.error(
                         span,

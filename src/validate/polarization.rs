@@ -412,7 +412,11 @@ impl Context {
         let sheet = 20.0 * reflected;
         let (sheet_text, light_at) = if polarized_light {
             (
-                format!("[materials.polarizer]\ntype = \"polarizer\"\naxis = {}\n{}", array(axis), quad(sheet, reflected, 4.0, "polarizer")),
+                format!(
+                    "[materials.polarizer]\ntype = \"polarizer\"\naxis = {}\n{}",
+                    array(axis),
+                    quad(sheet, reflected, 4.0, "polarizer")
+                ),
                 sheet + 1.0 * reflected,
             )
         } else {
@@ -440,16 +444,16 @@ impl Context {
         let gold = TmmFixture::parse("thin_film_sio2_on_gold.csv", super::tmm_fixture::SIO2_ON_GOLD)?;
         let glass = TmmFixture::parse("thin_film_mgf2_on_bk7.csv", super::tmm_fixture::MGF2_ON_BK7)?;
         let mut all = Vec::new();
-        for (fixture, kind, substrate) in
-            [(&gold, "mirror", "complex_ior"), (&glass, "dielectric", "ior")]
-        {
+        for (fixture, kind, substrate) in [(&gold, "mirror", "complex_ior"), (&glass, "dielectric", "ior")] {
             let substrate_value = if fixture.substrate.im == 0.0 {
                 format!("{}", fixture.substrate.re)
             } else {
                 format!("[{}, {}]", fixture.substrate.re, fixture.substrate.im)
             };
-            let material =
-                format!("type = \"{kind}\"\n{substrate} = {substrate_value}\ncoating = [{}]", fixture.coating_toml());
+            let material = format!(
+                "type = \"{kind}\"\n{substrate} = {substrate_value}\ncoating = [{}]",
+                fixture.coating_toml()
+            );
             for theta_deg in [15.0, 45.0, 70.0, 85.0] {
                 for polarized_light in [false, true] {
                     all.push(self.coated_surface(fixture, &material, theta_deg, polarized_light)?);
