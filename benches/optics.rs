@@ -62,7 +62,7 @@ fn optics_benchmarks(c: &mut Criterion) {
         absorption: None,
         coating: layers
             .iter()
-            .map(|&(n, thickness_nm)| CoatingLayer { ior: Ior::Constant(n), thickness_nm })
+            .map(|&(n, thickness_nm)| CoatingLayer::dielectric(Ior::Constant(n), thickness_nm))
             .collect(),
     };
     // Quarter-wave MgF₂ at 550 nm; a four-layer stack (quarter, half, quarter, quarter waves of
@@ -93,7 +93,7 @@ fn optics_benchmarks(c: &mut Criterion) {
                     .iter()
                     .zip(&wavelengths_nm)
                     .map(|(&cos, &nm)| {
-                        let i = dielectric.coated_interface(black_box(cos), black_box(n_glass), nm);
+                        let i = dielectric.coated_interface(black_box(cos), black_box(n_glass), nm, None);
                         i.reflection.a + i.reflection.w_im + i.transmission.a + i.transmission.w_re
                     })
                     .sum::<f32>()

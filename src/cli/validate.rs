@@ -50,6 +50,10 @@ pub enum FaultArg {
     CausticsTwice,
     /// The light tracer stops at its first diffuse vertex in full transport (paths counted never).
     CausticsNever,
+    /// Every coating's layers without their phase thickness (a film without interference).
+    CoatingPhase,
+    /// The s and p amplitudes of every coating exchanged.
+    CoatingSpSwapped,
 }
 
 /// Arguments of `prisma validate`.
@@ -97,6 +101,8 @@ pub fn run(args: &ValidateArgs) -> Result<(), CliError> {
         FaultArg::DarkBackground => Fault::DarkBackground,
         FaultArg::CausticsTwice => Fault::CausticsCountedTwice,
         FaultArg::CausticsNever => Fault::CausticsCountedNever,
+        FaultArg::CoatingPhase => Fault::CoatingPhaseDropped,
+        FaultArg::CoatingSpSwapped => Fault::CoatingSpSwapped,
     });
     let threads = args.threads.unwrap_or(0) as usize;
     if !args.dir.join("cases.toml").is_file() {

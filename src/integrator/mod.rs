@@ -103,6 +103,21 @@ pub enum Fault {
     /// while the path tracer still leaves the light tracer's paths to it: the paths L S⁺ D X⁺ D E
     /// (light through glass, then on from a diffuse surface) are counted by nobody.
     CausticsCountedNever,
+    /// Every coating layer's phase thickness dropped (β = 0): a film without interference.
+    CoatingPhaseDropped,
+    /// The s and p amplitudes of every coating's stack exchanged.
+    CoatingSpSwapped,
+}
+
+/// The coatings' share of `fault` (`material::dielectric::CoatingFault`).
+#[inline]
+pub(crate) fn coating_fault(fault: Option<Fault>) -> Option<crate::material::dielectric::CoatingFault> {
+    use crate::material::dielectric::CoatingFault;
+    match fault {
+        Some(Fault::CoatingPhaseDropped) => Some(CoatingFault::PhaseDropped),
+        Some(Fault::CoatingSpSwapped) => Some(CoatingFault::SpSwapped),
+        _ => None,
+    }
 }
 
 /// Each dielectric's index of refraction at the one wavelength of a monochromatic render, by
@@ -187,14 +202,14 @@ pub(crate) fn mirror_mueller<B: Beam>(
     wavelengths: &SampledWavelengths,
 ) -> Mueller {
     if B::POLARIZED {
-        let mueller = mirror.mueller(cos_theta_i, wavelengths);
+        let mueller = mirror.mueller(cos_theta_i, wavelengths, coating_fault(fault));
         if fault == Some(Fault::FlippedPhase) {
             mueller.phase_flipped()
         } else {
             mueller
         }
     } else {
-        Mueller::attenuation(mirror.reflectance(cos_theta_i, wavelengths))
+        Mueller::attenuation(mirror.reflectance(cos_theta_i, wavelengths, coating_fault(fault)))
     }
 }
 
@@ -232,7 +247,12 @@ pub(crate) fn coated_matrices<B: Beam>(
             Some(Fault::IorScale(scale)) => glass_ior(lane) * scale,
             _ => glass_ior(lane),
         };
-        let interface = dielectric.coated_interface(cos_theta_i, n_glass, wavelengths.lambda_nm(lane));
+        let interface = dielectric.coated_interface(
+            cos_theta_i,
+            n_glass,
+            wavelengths.lambda_nm(lane),
+            coating_fault(fault),
+        );
         reflection[lane] = element(fault, interface.reflection);
         transmission[lane] = element(fault, interface.transmission);
     }

@@ -4,7 +4,9 @@
 //! layers on the interface, replaces the bare Fresnel amplitudes by the stack's
 //! ([`crate::optics::thin_film`], the transfer-matrix method of Macleod, *Thin-Film Optical
 //! Filters*, §2.2–2.4) for light from either side; the directions stay those of the bare
-//! interface (the layers are thin and parallel, so n sin θ carries through them).
+//! interface (the layers are thin and parallel, so n sin θ carries through them). The same
+//! coatings go on metal mirrors ([`crate::material::Mirror`]); a layer may absorb (n + ik of a
+//! metal, or a constant n + ik).
 //!
 //! ```toml
 //! [materials.flint]
@@ -12,11 +14,17 @@
 //! ior = { glass = "N-SF11" }          # or 1.5, { cauchy = [A, B, C] }, { sellmeier = { ... } }
 //! absorption = { rgb = [0.0, 0.05, 0.1] }   # optional, per scene unit
 //! coating = [{ ior = 1.38, thickness_nm = 99.64 }]   # optional, outside (air) side first
+//!
+//! [materials.half_silvered]
+//! type = "dielectric"
+//! ior = { glass = "N-BK7" }
+//! coating = [{ metal = "silver", thickness_nm = 20 }]   # absorbing layers: metal or complex_ior
 //! ```
 
 use num_complex::{Complex32, Complex64};
 
-use crate::optics::{thin_film_amplitudes, Ior, Layer};
+use crate::optics::metals::MetalEntry;
+use crate::optics::{thin_film_amplitudes, Ior, Layer, ThinFilmAmplitudes};
 use crate::polarization::mueller::JonesDiagonal;
 use crate::spectrum::DenseSpectrum;
 
@@ -38,13 +46,117 @@ pub struct Dielectric {
 /// Coatings of up to this many layers are evaluated in a short array.
 const SHORT_COATING: usize = 8;
 
+/// The index of a coating layer: a real n(λ) of any dielectric model, or a complex n + ik.
+#[derive(Debug, Clone)]
+pub enum LayerIndex {
+    /// A non-absorbing layer of real index n(λ) (constant, Cauchy, Sellmeier, table, catalogue).
+    Real(Ior),
+    /// A metal of the catalogue (`data/metals/`), its measured n + ik(λ).
+    Metal(&'static MetalEntry),
+    /// A constant complex index n + ik (n > 0, k ≥ 0).
+    Complex(Complex32),
+}
+
+impl LayerIndex {
+    /// The index n + ik (k ≥ 0, the sign users and tables write) at `lambda_nm` (nm).
+    #[inline]
+    pub fn at(&self, lambda_nm: f32) -> Complex64 {
+        match self {
+            LayerIndex::Real(ior) => Complex64::new(f64::from(ior.eval(lambda_nm)), 0.0),
+            LayerIndex::Metal(metal) => {
+                let eta = metal.eta(lambda_nm);
+                Complex64::new(f64::from(eta.re), f64::from(eta.im))
+            }
+            LayerIndex::Complex(eta) => Complex64::new(f64::from(eta.re), f64::from(eta.im)),
+        }
+    }
+}
+
 /// One coherent layer of a coating.
 #[derive(Debug, Clone)]
 pub struct CoatingLayer {
-    /// The layer's (real) index of refraction n(λ).
-    pub ior: Ior,
+    /// The layer's index of refraction, real or complex.
+    pub index: LayerIndex,
     /// Its physical thickness in nm, in (0, 10⁵].
     pub thickness_nm: f32,
+}
+
+impl CoatingLayer {
+    /// A non-absorbing layer of index `ior` and thickness `thickness_nm` (nm).
+    pub fn dielectric(ior: Ior, thickness_nm: f32) -> Self {
+        Self { index: LayerIndex::Real(ior), thickness_nm }
+    }
+}
+
+/// A deliberate error in a coating's evaluation, so that validation can prove it sees one
+/// (`prisma validate --fault coating-phase` / `coating-sp-swapped`). Never in a normal render.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CoatingFault {
+    /// Every layer's phase thickness β taken as 0 (a layer of zero thickness): the film's
+    /// interference is lost and the interface is the bare one.
+    PhaseDropped,
+    /// The s and p amplitudes of the stack exchanged.
+    SpSwapped,
+}
+
+/// The amplitudes of `coating` for light of vacuum wavelength `lambda_nm` (nm) arriving at
+/// `cos_theta_i` in [0, 1] from an ambient of real index `n_ambient` onto a substrate of index
+/// `n_substrate` (n + ik, k ≥ 0), the layers crossed in the order given or, if `reversed`,
+/// last first; with an optional injected `fault`. The one evaluation every coated material
+/// uses ([`Dielectric`] from either side, [`crate::material::Mirror`] on its metal).
+pub fn coating_amplitudes(
+    coating: &[CoatingLayer],
+    reversed: bool,
+    n_ambient: f64,
+    n_substrate: Complex64,
+    lambda_nm: f32,
+    cos_theta_i: f32,
+    fault: Option<CoatingFault>,
+) -> ThinFilmAmplitudes {
+    // The layers at this wavelength, in the order the light crosses them, on the stack: a short
+    // array for the common short coatings, the longest accepted otherwise.
+    let mut short = [Layer::dielectric(1.0, 0.0); SHORT_COATING];
+    let mut long;
+    let layers: &mut [Layer] = if coating.len() <= SHORT_COATING {
+        &mut short
+    } else {
+        long = [Layer::dielectric(1.0, 0.0); MAX_COATING_LAYERS];
+        &mut long
+    };
+    let count = coating.len().min(layers.len());
+    for (slot, layer) in coating[..count].iter().enumerate() {
+        let at = if reversed { count - 1 - slot } else { slot };
+        let thickness_nm =
+            if fault == Some(CoatingFault::PhaseDropped) { 0.0 } else { f64::from(layer.thickness_nm) };
+        layers[at] = Layer { index: layer.index.at(lambda_nm), thickness_nm };
+    }
+    let stack = thin_film_amplitudes(
+        n_ambient,
+        &layers[..count],
+        n_substrate,
+        f64::from(lambda_nm),
+        f64::from(cos_theta_i.abs().min(1.0)),
+    );
+    if fault == Some(CoatingFault::SpSwapped) {
+        ThinFilmAmplitudes {
+            r_s: stack.r_p,
+            r_p: stack.r_s,
+            t_s: stack.t_p,
+            t_p: stack.t_s,
+            reflectance_s: stack.reflectance_p,
+            reflectance_p: stack.reflectance_s,
+            transmittance_s: stack.transmittance_p,
+            transmittance_p: stack.transmittance_s,
+        }
+    } else {
+        stack
+    }
+}
+
+/// A complex amplitude narrowed to f32.
+#[inline]
+pub(crate) fn narrow(z: Complex64) -> Complex32 {
+    Complex32::new(z.re as f32, z.im as f32)
 }
 
 /// A coated interface at one wavelength and incidence, as Jones elements in the s/p frame of
@@ -73,49 +185,36 @@ impl Dielectric {
     /// outside, as [`crate::optics::fresnel_dielectric`] takes it) when the glass has index
     /// `n_glass` there. From the outside the layers are crossed in the order given (ambient
     /// vacuum, substrate the glass); from the inside in reverse (ambient the glass, substrate
-    /// vacuum). Under total internal reflection the transmission is zero.
-    pub fn coated_interface(&self, cos_theta_i: f32, n_glass: f32, lambda_nm: f32) -> CoatedInterface {
-        // The layers at this wavelength, in the order the light crosses them, on the stack: a
-        // short array for the common short coatings, the longest accepted otherwise.
-        if self.coating.len() <= SHORT_COATING {
-            let mut layers = [Layer::dielectric(1.0, 0.0); SHORT_COATING];
-            self.coated_with(&mut layers, cos_theta_i, n_glass, lambda_nm)
-        } else {
-            let mut layers = [Layer::dielectric(1.0, 0.0); MAX_COATING_LAYERS];
-            self.coated_with(&mut layers, cos_theta_i, n_glass, lambda_nm)
-        }
-    }
-
-    /// [`Self::coated_interface`] with `layers` (at least as long as the coating) to fill.
-    fn coated_with(
+    /// vacuum). Under total internal reflection the transmission is zero. `fault` is `None`
+    /// but in validation.
+    pub fn coated_interface(
         &self,
-        layers: &mut [Layer],
         cos_theta_i: f32,
         n_glass: f32,
         lambda_nm: f32,
+        fault: Option<CoatingFault>,
     ) -> CoatedInterface {
-        let count = self.coating.len().min(layers.len());
         let from_inside = cos_theta_i < 0.0;
-        for (slot, layer) in self.coating[..count].iter().enumerate() {
-            let at = if from_inside { count - 1 - slot } else { slot };
-            layers[at] =
-                Layer::dielectric(f64::from(layer.ior.eval(lambda_nm)), f64::from(layer.thickness_nm));
-        }
         let (n_ambient, n_substrate) =
             if from_inside { (f64::from(n_glass), 1.0) } else { (1.0, f64::from(n_glass)) };
-        let stack = thin_film_amplitudes(
+        let stack = coating_amplitudes(
+            &self.coating,
+            from_inside,
             n_ambient,
-            &layers[..count],
             n_substrate.into(),
-            f64::from(lambda_nm),
-            f64::from(cos_theta_i.abs().min(1.0)),
+            lambda_nm,
+            cos_theta_i,
+            fault,
         );
-        let narrow = |z: Complex64| Complex32::new(z.re as f32, z.im as f32);
-        // An amplitude of modulus √T with the phase of t (1 where t = 0: T is 0 there too).
+        // An amplitude of modulus √T with the phase of t: t·√(T/|t|²) (1 where t = 0: T is 0
+        // there too).
         let flux_amplitude = |t: Complex64, transmittance: f64| {
-            let norm = t.norm();
-            let phase = if norm > 0.0 { t / norm } else { Complex64::new(1.0, 0.0) };
-            narrow(phase * transmittance.max(0.0).sqrt())
+            let norm_sqr = t.norm_sqr();
+            if norm_sqr > 0.0 {
+                narrow(t * (transmittance.max(0.0) / norm_sqr).sqrt())
+            } else {
+                Complex32::new(transmittance.max(0.0).sqrt() as f32, 0.0)
+            }
         };
         CoatedInterface {
             reflection: JonesDiagonal::new(narrow(stack.r_s), narrow(stack.r_p)),
@@ -136,10 +235,7 @@ mod tests {
         Dielectric {
             ior: Ior::Constant(1.5),
             absorption: None,
-            coating: layers
-                .iter()
-                .map(|&(n, d)| CoatingLayer { ior: Ior::Constant(n), thickness_nm: d })
-                .collect(),
+            coating: layers.iter().map(|&(n, d)| CoatingLayer::dielectric(Ior::Constant(n), d)).collect(),
         }
     }
 
@@ -150,7 +246,7 @@ mod tests {
         let glass = coated(&[(1.0, 250.0)]);
         for cos_theta_i in [1.0_f32, 0.8, 0.3, -1.0, -0.9, -0.5, -0.2] {
             let bare = fresnel_dielectric(cos_theta_i, 1.5);
-            let interface = glass.coated_interface(cos_theta_i, 1.5, 550.0);
+            let interface = glass.coated_interface(cos_theta_i, 1.5, 550.0, None);
             let expected_t = 0.5 * ((1.0 - bare.reflectance_s) + (1.0 - bare.reflectance_p));
             assert!((interface.reflection.a - bare.reflectance).abs() < 1e-5, "cos {cos_theta_i}");
             assert!((interface.transmission.a - expected_t).abs() < 1e-5, "cos {cos_theta_i}");
@@ -170,7 +266,7 @@ mod tests {
         let glass = coated(&[(1.38, 550.0 / (4.0 * 1.38))]);
         let expected = ((1.5 - 1.38_f32 * 1.38) / (1.5 + 1.38 * 1.38)).powi(2);
         for cos_theta_i in [1.0_f32, -1.0] {
-            let interface = glass.coated_interface(cos_theta_i, 1.5, 550.0);
+            let interface = glass.coated_interface(cos_theta_i, 1.5, 550.0, None);
             assert!((interface.reflection.a - expected).abs() < 1e-6, "{}", interface.reflection.a);
             assert!((interface.reflection.a + interface.transmission.a - 1.0).abs() < 1e-6);
         }

@@ -10,7 +10,9 @@ pub mod retarder;
 
 use glam::Vec3;
 
-pub use dielectric::{CoatedInterface, CoatingLayer, Dielectric, MAX_COATING_LAYERS};
+pub use dielectric::{
+    CoatedInterface, CoatingFault, CoatingLayer, Dielectric, LayerIndex, MAX_COATING_LAYERS,
+};
 pub use diffuse::Diffuse;
 pub use mirror::{Conductor, Mirror};
 pub use polarizer::Polarizer;

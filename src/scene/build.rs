@@ -20,7 +20,8 @@ use crate::camera::{Camera, Pinhole, ThinLens};
 use crate::geometry::{Geometry, Mesh, Plane, Quad, Shape, Sphere};
 use crate::light::{BeamLight, Light, PointLight, QuadLight, SpotLight};
 use crate::material::{
-    CoatingLayer, Conductor, Dielectric, Diffuse, Material, Mirror, Polarizer, Retarder, MAX_COATING_LAYERS,
+    CoatingLayer, Conductor, Dielectric, Diffuse, LayerIndex, Material, Mirror, Polarizer, Retarder,
+    MAX_COATING_LAYERS,
 };
 use crate::optics::{catalogue, metals, Ior};
 use crate::spectrum::{DenseSpectrum, Spectrum, LAMBDA_MAX_NM, LAMBDA_MIN_NM, N_LAMBDA};
@@ -344,7 +345,7 @@ impl Builder<'_> {
                 }
                 Material::Diffuse(Diffuse::new(albedo, sigma_deg.to_radians()))
             }
-            MaterialDesc::Mirror { reflectance, metal, complex_ior } => {
+            MaterialDesc::Mirror { reflectance, metal, complex_ior, coating } => {
                 let reflectance = match reflectance {
                     Some(r) => self.spectrum(r, Role::Reflectance, span.clone(), &field("reflectance"))?,
                     None => DenseSpectrum::constant(1.0),
@@ -367,25 +368,21 @@ impl Builder<'_> {
                             ),
                         )
                     })?),
-                    (None, Some([n, k])) => {
-                        if !(n.is_finite()
-                            && k.is_finite()
-                            && *n > 0.0
-                            && *k >= 0.0
-                            && *n <= 1e3
-                            && *k <= 1e3)
-                        {
-                            return Err(self.error(
-                                span,
-                                field("complex_ior"),
-                                format!("[n, k] must have 0 < n ≤ 1000 and 0 ≤ k ≤ 1000, got [{n}, {k}]"),
-                            ));
-                        }
-                        Conductor::Index(num_complex::Complex32::new(*n, *k))
+                    (None, Some(n_k)) => {
+                        Conductor::Index(self.complex_ior(*n_k, span.clone(), &field("complex_ior"))?)
                     }
                     (None, None) => Conductor::Perfect,
                 };
-                Material::Mirror(Mirror { reflectance, conductor })
+                let coating =
+                    self.coating(coating.as_deref().unwrap_or(&[]), span.clone(), &field("coating"))?;
+                if !coating.is_empty() && conductor == Conductor::Perfect {
+                    return Err(self.error(
+                        span,
+                        field("coating"),
+                        "a coating needs the metal under it: give `metal` or `complex_ior`",
+                    ));
+                }
+                Material::Mirror(Mirror { reflectance, conductor, coating })
             }
             MaterialDesc::Dielectric { ior, absorption, coating } => {
                 let ior = self.ior(ior, span.clone(), &field("ior"))?;
@@ -421,7 +418,8 @@ impl Builder<'_> {
     }
 
     /// A coating's layers (outside first): at most [`MAX_COATING_LAYERS`], each with an index
-    /// like a material's and a thickness in (0, [`MAX_COATING_THICKNESS_NM`]] nm.
+    /// like a material's `ior`, a metal's name or a `complex_ior`, and a thickness in
+    /// (0, [`MAX_COATING_THICKNESS_NM`]] nm.
     fn coating(
         &self,
         layers: &[CoatingLayerDesc],
@@ -439,7 +437,33 @@ impl Builder<'_> {
             .iter()
             .enumerate()
             .map(|(i, layer)| {
-                let ior = self.ior(&layer.ior, span.clone(), &format!("{field}[{i}].ior"))?;
+                let index = match (&layer.ior, &layer.metal, layer.complex_ior) {
+                    (Some(ior), None, None) => {
+                        LayerIndex::Real(self.ior(ior, span.clone(), &format!("{field}[{i}].ior"))?)
+                    }
+                    (None, Some(name), None) => LayerIndex::Metal(metals::metal(name).ok_or_else(|| {
+                        self.error(
+                            span.clone(),
+                            format!("{field}[{i}].metal"),
+                            format!(
+                                "unknown metal \"{name}\"; known metals: {}",
+                                metals::metal_names().join(", ")
+                            ),
+                        )
+                    })?),
+                    (None, None, Some(n_k)) => LayerIndex::Complex(self.complex_ior(
+                        n_k,
+                        span.clone(),
+                        &format!("{field}[{i}].complex_ior"),
+                    )?),
+                    _ => {
+                        return Err(self.error(
+                            span.clone(),
+                            format!("{field}[{i}]"),
+                            "give exactly one of `ior`, `metal` or `complex_ior` for the layer's index",
+                        ))
+                    }
+                };
                 let thickness_nm = layer.thickness_nm;
                 if !(thickness_nm.is_finite()
                     && thickness_nm > 0.0
@@ -454,9 +478,26 @@ impl Builder<'_> {
                         ),
                     ));
                 }
-                Ok(CoatingLayer { ior, thickness_nm })
+                Ok(CoatingLayer { index, thickness_nm })
             })
             .collect()
+    }
+
+    /// A complex index [n, k] (n + ik) of a mirror or a coating layer: 0 < n ≤ 1000, 0 ≤ k ≤ 1000.
+    fn complex_ior(
+        &self,
+        [n, k]: [f32; 2],
+        span: std::ops::Range<usize>,
+        field: &str,
+    ) -> Result<num_complex::Complex32, SceneError> {
+        if !(n.is_finite() && k.is_finite() && n > 0.0 && k >= 0.0 && n <= 1e3 && k <= 1e3) {
+            return Err(self.error(
+                span,
+                field,
+                format!("[n, k] must have 0 < n ≤ 1000 and 0 ≤ k ≤ 1000, got [{n}, {k}]"),
+            ));
+        }
+        Ok(num_complex::Complex32::new(n, k))
     }
 
     fn ior(&self, desc: &IorDesc, span: std::ops::Range<usize>, field: &str) -> Result<Ior, SceneError> {

@@ -141,6 +141,9 @@ pub enum MaterialDesc {
         /// A constant complex index [n, k] (n + ik) whose Fresnel reflectance applies.
         #[serde(default)]
         complex_ior: Option<[f32; 2]>,
+        /// Thin coherent layers on the metal, from the outside inwards; bare when absent.
+        #[serde(default)]
+        coating: Option<Vec<CoatingLayerDesc>>,
     },
     /// Smooth dielectric (glass, water...).
     Dielectric {
@@ -363,12 +366,20 @@ pub struct IorFields {
     pub table: Option<Vec<[f32; 2]>>,
 }
 
-/// One layer of a dielectric's coating.
+/// One layer of a dielectric's or a mirror's coating: exactly one of `ior`, `metal`,
+/// `complex_ior`, and a thickness.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CoatingLayerDesc {
-    /// The layer's index of refraction (any form a material's `ior` takes).
-    pub ior: IorDesc,
+    /// A real index of refraction (any form a material's `ior` takes).
+    #[serde(default)]
+    pub ior: Option<IorDesc>,
+    /// An absorbing layer of a metal of data/metals/ (n + ik from its table).
+    #[serde(default)]
+    pub metal: Option<String>,
+    /// An absorbing layer of constant complex index [n, k] (n + ik).
+    #[serde(default)]
+    pub complex_ior: Option<[f32; 2]>,
     /// Physical thickness in nm.
     pub thickness_nm: f32,
 }

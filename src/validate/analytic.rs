@@ -15,7 +15,7 @@ use crate::scene::{parse, Scene};
 /// Names of the analytic cases, in the order [`run`] runs them: the radiometric cases of this
 /// module, the polarisation cases of [`super::polarization`], the caustic cases of
 /// [`super::caustics`], then the closed forms of full transport of [`super::furnace`].
-pub const CASES: [&str; 22] = [
+pub const CASES: [&str; 23] = [
     "lambert_point_light",
     "furnace_glass",
     "furnace_dispersive_glass",
@@ -29,6 +29,7 @@ pub const CASES: [&str; 22] = [
     "tir_retardance",
     "conductor_pair",
     "polarizer_chain",
+    "coated_reflection",
     "newton_lines",
     "prism_band_edges",
     "ball_lens_focus",

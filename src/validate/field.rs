@@ -37,6 +37,16 @@ pub enum Element {
         /// Relative index of the medium beyond the surface.
         eta: Complex64,
     },
+    /// Reflection with given amplitudes (Hecht's signs, this module's `e^{−iωt}` convention),
+    /// e.g. a coated surface's from an external transfer-matrix code.
+    Amplitudes {
+        /// Surface normal (either orientation).
+        normal: DVec3,
+        /// r_s.
+        r_s: Complex64,
+        /// r_p.
+        r_p: Complex64,
+    },
     /// A perfect electric conductor: r_s = −1, r_p = +1.
     PerfectMirror {
         /// Surface normal (either orientation).
@@ -96,6 +106,7 @@ pub fn apply(field: Field, k: DVec3, element: &Element) -> (Field, DVec3) {
             let (r_s, r_p) = reflection_amplitudes(k.dot(normal), eta);
             reflect(field, k, normal, r_s, r_p)
         }
+        Element::Amplitudes { normal, r_s, r_p } => reflect(field, k, normal, r_s, r_p),
         Element::PerfectMirror { normal } => {
             reflect(field, k, normal, Complex64::new(-1.0, 0.0), Complex64::new(1.0, 0.0))
         }

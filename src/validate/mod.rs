@@ -13,6 +13,7 @@ pub mod mitsuba;
 pub mod polarization;
 pub mod summary;
 pub mod textbook;
+pub mod tmm_fixture;
 
 /// The outcome of one validation case.
 #[derive(Debug, Clone)]

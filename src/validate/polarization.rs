@@ -3,8 +3,10 @@
 //! swapped), a rolled camera (a transposed rotation shows in the sign of S2), two reflections
 //! in different planes of incidence (a missing or wrong frame rotation), total internal
 //! reflection as a Fresnel rhomb and two gold mirrors (the sign of the phase, seen in S3),
-//! polarisers and wave plates (Malus's law; retarder handedness), and polarisers on a shadow
-//! ray.
+//! polarisers and wave plates (Malus's law; retarder handedness), polarisers on a shadow
+//! ray, and coated surfaces (issue 41: a film on gold and a quarter wave on glass, whose
+//! amplitudes come from the `tmm` package's fixtures, not from prisma's stack: the film's
+//! phase, s and p, and the sign of S3 from a coating).
 //!
 //! Each renders a scene built here, one wavelength, a pinhole of 0.01° so that every camera
 //! ray follows the same specular path, and compares the Stokes vector the camera records with
@@ -16,19 +18,21 @@ use glam::DVec3;
 use num_complex::Complex64;
 
 use super::field::{self, Element};
+use super::tmm_fixture::TmmFixture;
 use super::{CaseResult, Check, ValidateError};
 use crate::integrator::Fault;
 use crate::render::{render, Job};
 use crate::scene::parse;
 
 /// Names of the polarisation cases, in the order they run.
-pub const CASES: [&str; 6] = [
+pub const CASES: [&str; 7] = [
     "one_reflection",
     "camera_roll",
     "skew_reflections",
     "tir_retardance",
     "conductor_pair",
     "polarizer_chain",
+    "coated_reflection",
 ];
 
 /// Largest error of a Stokes ratio S_k/S0 (k = 1..3) and of S0 relative to the reference: the
@@ -53,6 +57,7 @@ pub fn run(name: &str, threads: usize, fault: Option<Fault>) -> Result<CaseResul
         "tir_retardance" => (ctx.tir_retardance()?, "a Fresnel rhomb: two total internal reflections at 54.6° in n = 1.51 turn light at 45° circular"),
         "conductor_pair" => (ctx.conductor_pair()?, "two gold mirrors (n + ik = 0.35 + 2.71i) in different planes of incidence make unpolarised light elliptical"),
         "polarizer_chain" => (ctx.polarizer_chain()?, "polarisers at 0°–90° (Malus), a quarter-wave and a half-wave plate, polarisers on a shadow ray"),
+        "coated_reflection" => (ctx.coated_reflection()?, "100 nm of SiO₂ on gold (0.18 + 3.43i) and quarter-wave MgF₂ on N-BK7 at 15°–85°, unpolarised and through a polariser at 45° (S3 from the film's phase), against tmm 0.2.0's amplitudes (tests/fixtures/thin_film_*.csv)"),
         _ => {
             return Err(ValidateError::Input(format!(
                 "unknown polarisation case \"{name}\"; known: {}",
@@ -377,6 +382,83 @@ impl Context {
             let through = field::unpolarized_through(1.0, -DVec3::Y, &sheets, |_| DVec3::X)[0];
             let radiance = albedo / std::f64::consts::PI * intensity * through / (height * height);
             all.push((seen, [radiance, 0.0, 0.0, 0.0]));
+        }
+        Ok(all)
+    }
+
+    /// A coated surface, the plane y = 0 (normal +y), met at `theta_deg` by a camera whose
+    /// plane of incidence is vertical in the image, lit by a quad light where the reflection
+    /// goes, unpolarised or through a polariser at 45° to the plane of incidence (linear light
+    /// at 45° comes back elliptical: S3 has the sign of the film's phase difference). The
+    /// reference is the field tracer with the fixture's r_s, r_p at that angle.
+    fn coated_surface(
+        &self,
+        fixture: &TmmFixture,
+        material: &str,
+        theta_deg: f64,
+        polarized_light: bool,
+    ) -> Result<Comparison, ValidateError> {
+        let (r_s, r_p) = fixture.reflection(f64::from(LAMBDA_NM), theta_deg).ok_or_else(|| {
+            ValidateError::Input(format!("{}: no row at {LAMBDA_NM} nm, {theta_deg}°", fixture.name))
+        })?;
+        let theta = theta_deg.to_radians();
+        let (s, c) = theta.sin_cos();
+        let distance = 10.0;
+        let dir = DVec3::new(s, -c, 0.0);
+        let up = DVec3::Y;
+        let reflected = reflect(dir, DVec3::Y);
+        // s is ±z here; the reflected p direction is reflected × z: the axis halfway between.
+        let axis = (DVec3::Z + reflected.cross(DVec3::Z).normalize()).normalize();
+        let sheet = 20.0 * reflected;
+        let (sheet_text, light_at) = if polarized_light {
+            (
+                format!(
+                    "[materials.polarizer]\ntype = \"polarizer\"\naxis = {}\n{}",
+                    array(axis),
+                    quad(sheet, reflected, 4.0, "polarizer")
+                ),
+                sheet + 1.0 * reflected,
+            )
+        } else {
+            (String::new(), 50.0 * reflected)
+        };
+        let text = format!(
+            "{}[materials.coated]\n{material}\n\
+             [[shapes]]\ntype = \"plane\"\npoint = [0, 0, 0]\nnormal = [0, 1, 0]\nmaterial = \"coated\"\n{sheet_text}{}",
+            camera(-distance * dir, dir, up),
+            quad_light(light_at, -reflected, 20.0, 1.0),
+        );
+        let seen = self.stokes(&text, "coated_reflection")?;
+        // The fixture's amplitudes are in prisma's e^{+iωt} convention; the field tracer's
+        // are their conjugates (tmm's own).
+        let coated = Element::Amplitudes { normal: DVec3::Y, r_s: r_s.conj(), r_p: r_p.conj() };
+        let elements: Vec<Element> = if polarized_light {
+            vec![Element::Polarizer { normal: reflected, axis }, coated]
+        } else {
+            vec![coated]
+        };
+        Ok((seen, field::unpolarized_through(1.0, -reflected, &elements, camera_frame(up))))
+    }
+
+    fn coated_reflection(&self) -> Result<Vec<Comparison>, ValidateError> {
+        let gold = TmmFixture::parse("thin_film_sio2_on_gold.csv", super::tmm_fixture::SIO2_ON_GOLD)?;
+        let glass = TmmFixture::parse("thin_film_mgf2_on_bk7.csv", super::tmm_fixture::MGF2_ON_BK7)?;
+        let mut all = Vec::new();
+        for (fixture, kind, substrate) in [(&gold, "mirror", "complex_ior"), (&glass, "dielectric", "ior")] {
+            let substrate_value = if fixture.substrate.im == 0.0 {
+                format!("{}", fixture.substrate.re)
+            } else {
+                format!("[{}, {}]", fixture.substrate.re, fixture.substrate.im)
+            };
+            let material = format!(
+                "type = \"{kind}\"\n{substrate} = {substrate_value}\ncoating = [{}]",
+                fixture.coating_toml()
+            );
+            for theta_deg in [15.0, 45.0, 70.0, 85.0] {
+                for polarized_light in [false, true] {
+                    all.push(self.coated_surface(fixture, &material, theta_deg, polarized_light)?);
+                }
+            }
         }
         Ok(all)
     }
