@@ -495,3 +495,14 @@ fn a_film_has_the_colour_of_the_interference_chart() {
     }
     eprintln!("worst colour error against the chart: {worst:.2e} of the brightest Y");
 }
+
+/// `prisma validate`'s soap-film case passes, and fails with every index 1 % too high (the
+/// film's phase 2β moves by 1 %: 0.2 rad at 700 nm of water).
+#[test]
+fn the_validate_case_passes_and_catches_a_wrong_index() {
+    use prisma::integrator::Fault;
+    use prisma::validate::analytic;
+    let passes = |fault: Option<Fault>| analytic::run("soap_film_colour", 2, fault).expect("the case runs").passed();
+    assert!(passes(None));
+    assert!(!passes(Some(Fault::IorScale(1.01))));
+}
