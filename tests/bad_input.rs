@@ -336,7 +336,8 @@ fn bad_coatings_are_rejected() {
 /// index below the air's, an unknown one, a drained film over a plane without heights).
 #[test]
 fn bad_films_are_rejected() {
-    let film = |body: &str| GOOD.replace("type = \"dielectric\"\nior = 1.5", &format!("type = \"film\"\n{body}"));
+    let film =
+        |body: &str| GOOD.replace("type = \"dielectric\"\nior = 1.5", &format!("type = \"film\"\n{body}"));
     let line = at_line_of(GOOD, "[materials.glass]");
     for thickness in ["-5", "nan", "inf", "1e6"] {
         assert_rejected(

@@ -207,7 +207,8 @@ fn mean_stokes(text: &str, lambda_nm: f64, fault: Option<prisma::integrator::Fau
         ..Job::new(scene.settings.clone())
     };
     let film = render(&scene, &job).expect("the render succeeds").0;
-    let mean = |values: &[glam::Vec3]| values.iter().map(|p| f64::from(p.y)).sum::<f64>() / values.len() as f64;
+    let mean =
+        |values: &[glam::Vec3]| values.iter().map(|p| f64::from(p.y)).sum::<f64>() / values.len() as f64;
     let mut stokes = [mean(film.xyz()), 0.0, 0.0, 0.0];
     if polarized {
         for (k, slot) in stokes.iter_mut().enumerate().skip(1) {
@@ -258,7 +259,10 @@ fn a_flat_film_renders_the_tmm_amplitudes_in_all_four_stokes_components() {
             let expected = expected_stokes(a_s, a_p);
             let error = (0..4).map(|k| (stokes[k] - expected[k]).abs()).fold(0.0, f64::max) / expected[0];
             eprintln!("{seen:?} {lambda_nm} nm {theta_deg}°: {stokes:?} vs {expected:?}, error {error:.2e}");
-            assert!(error < NARROW_TOLERANCE, "{seen:?} {lambda_nm} nm {theta_deg}°: {stokes:?} vs {expected:?}");
+            assert!(
+                error < NARROW_TOLERANCE,
+                "{seen:?} {lambda_nm} nm {theta_deg}°: {stokes:?} vs {expected:?}"
+            );
             worst = worst.max(error);
             // Unpolarised transport: the s/p average alone.
             let text = scene_text(&film, seen, theta_deg, 0.02, 4, false, false);
@@ -297,7 +301,8 @@ fn wrong_films_fail_the_comparison() {
         };
         (2.0 * one / (1.0 + one)).sqrt()
     };
-    let dropped = distance(expected_stokes(Complex64::new(incoherent(r_s), 0.0), Complex64::new(incoherent(r_p), 0.0)));
+    let dropped =
+        distance(expected_stokes(Complex64::new(incoherent(r_s), 0.0), Complex64::new(incoherent(r_p), 0.0)));
     eprintln!("swapped {swapped:.3}, flipped phase {flipped:.3}, incoherent {dropped:.3}");
     for (what, off) in [("s and p swapped", swapped), ("phase flipped", flipped), ("incoherent", dropped)] {
         assert!(off > 100.0 * NARROW_TOLERANCE, "{what} is only {off:.2e} away");
@@ -334,7 +339,8 @@ fn every_pixel_sees_the_film_at_its_own_angle() {
         let ndc_x = 2.0 * x / f64::from(SIZE) - 1.0;
         let ndc_y = 1.0 - 2.0 * y / f64::from(SIZE);
         // The image's x sign does not matter: the scene is symmetric about x = 0.
-        let d: [f64; 3] = std::array::from_fn(|i| forward[i] + ndc_x * tan_half * right[i] + ndc_y * tan_half * up[i]);
+        let d: [f64; 3] =
+            std::array::from_fn(|i| forward[i] + ndc_x * tan_half * right[i] + ndc_y * tan_half * up[i]);
         let d = normalize(d);
         let t = -position[1] / d[1];
         (-d[1], std::array::from_fn::<f64, 3, _>(|i| position[i] + t * d[i]))
@@ -364,16 +370,21 @@ fn every_pixel_sees_the_film_at_its_own_angle() {
             for lambda_nm in [450.0, 550.0, 650.0] {
                 let text = scene_text(film, seen, THETA_DEG, FOV_DEG, SIZE, false, false);
                 let scene = prisma::scene::parse(&text, Path::new("<soap_film>")).expect("the scene loads");
-                let job =
-                    Job { threads: 2, monochromatic_nm: Some(lambda_nm as f32), ..Job::new(scene.settings.clone()) };
+                let job = Job {
+                    threads: 2,
+                    monochromatic_nm: Some(lambda_nm as f32),
+                    ..Job::new(scene.settings.clone())
+                };
                 let image = render(&scene, &job).expect("the render succeeds").0;
                 let n = 16;
                 for (i, pixel) in image.xyz().iter().enumerate() {
                     let (x0, y0) = ((i as u32 % SIZE) as f64, (i as u32 / SIZE) as f64);
                     let expected = (0..n * n)
                         .map(|k| {
-                            let (cos_i, point) =
-                                ray(x0 + ((k % n) as f64 + 0.5) / n as f64, y0 + ((k / n) as f64 + 0.5) / n as f64);
+                            let (cos_i, point) = ray(
+                                x0 + ((k % n) as f64 + 0.5) / n as f64,
+                                y0 + ((k / n) as f64 + 0.5) / n as f64,
+                            );
                             let [r_s, r_p, t_s, t_p] = airy(WATER, thickness(name, point), lambda_nm, cos_i);
                             match seen {
                                 Seen::Reflected => 0.5 * (r_s.norm_sqr() + r_p.norm_sqr()),
@@ -407,9 +418,13 @@ fn a_lossless_film_reflects_what_it_does_not_transmit() {
             for i in 0..=20 {
                 let cos_i = i as f32 / 20.0;
                 for sign in [1.0_f32, -1.0] {
-                    let film = prisma::material::Film::interface(sign * cos_i, 1.333, thickness_nm, lambda_nm);
+                    let film =
+                        prisma::material::Film::interface(sign * cos_i, 1.333, thickness_nm, lambda_nm);
                     let sum = film.reflection.a + film.transmission.a;
-                    assert!((sum - 1.0).abs() < 1e-6, "{thickness_nm} nm at {lambda_nm} nm, cos {cos_i}: {sum}");
+                    assert!(
+                        (sum - 1.0).abs() < 1e-6,
+                        "{thickness_nm} nm at {lambda_nm} nm, cos {cos_i}: {sum}"
+                    );
                     // Per polarisation too: a ± b is 2R_s or 2R_p.
                     let s = film.reflection.a + film.reflection.b + film.transmission.a + film.transmission.b;
                     assert!((s - 1.0).abs() < 1e-6, "s: {s}");
@@ -430,7 +445,10 @@ fn a_bubble_in_a_white_furnace_is_invisible() {
     ] {
         let result = prisma::validate::analytic::furnace(material, 2).expect("the furnace runs");
         for check in &result.checks {
-            eprintln!("{material:?}: {} = {:.2e} (threshold {:.0e})", check.metric, check.value, check.threshold);
+            eprintln!(
+                "{material:?}: {} = {:.2e} (threshold {:.0e})",
+                check.metric, check.value, check.threshold
+            );
             assert!(check.passed(), "{material:?}: {check:?}");
         }
     }
@@ -471,10 +489,15 @@ fn a_film_has_the_colour_of_the_interference_chart() {
              radiance = {{ illuminant = \"D65\" }}\nemit = \"edge1_cross_edge2\"\n"
         );
         let scene = prisma::scene::parse(&text, Path::new("<film_colour>")).expect("the scene loads");
-        let image = render(&scene, &Job { threads: 2, ..Job::new(scene.settings.clone()) }).expect("renders").0;
+        let image =
+            render(&scene, &Job { threads: 2, ..Job::new(scene.settings.clone()) }).expect("renders").0;
         let count = image.xyz().len() as f64;
         image.xyz().iter().fold([0.0; 3], |sum, p| {
-            [sum[0] + f64::from(p.x) / count, sum[1] + f64::from(p.y) / count, sum[2] + f64::from(p.z) / count]
+            [
+                sum[0] + f64::from(p.x) / count,
+                sum[1] + f64::from(p.y) / count,
+                sum[2] + f64::from(p.z) / count,
+            ]
         })
     };
     let white = render_xyz("type = \"mirror\"")[1];
@@ -502,7 +525,8 @@ fn a_film_has_the_colour_of_the_interference_chart() {
 fn the_validate_case_passes_and_catches_a_wrong_index() {
     use prisma::integrator::Fault;
     use prisma::validate::analytic;
-    let passes = |fault: Option<Fault>| analytic::run("soap_film_colour", 2, fault).expect("the case runs").passed();
+    let passes =
+        |fault: Option<Fault>| analytic::run("soap_film_colour", 2, fault).expect("the case runs").passed();
     assert!(passes(None));
     assert!(!passes(Some(Fault::IorScale(1.01))));
 }

@@ -122,8 +122,8 @@ use glam::Vec3;
 use super::emission::{Cone, Emission};
 use super::guide::EmissionGuide;
 use super::{
-    coated_matrices, element, film_matrices, fresnel, refraction, rotation, Beam, Fault, MonochromaticIndices,
-    TraceStats,
+    coated_matrices, element, film_matrices, fresnel, refraction, rotation, Beam, Fault,
+    MonochromaticIndices, TraceStats,
 };
 use crate::camera::FilmPoint;
 use crate::film::{FilmLayout, Splats};

@@ -559,7 +559,8 @@ impl Builder<'_> {
                             ));
                         };
                         (0..8).fold((f32::INFINITY, f32::NEG_INFINITY), |(from, to), corner| {
-                            let pick = |bit: u32, min: f32, max: f32| if corner & bit == 0 { min } else { max };
+                            let pick =
+                                |bit: u32, min: f32, max: f32| if corner & bit == 0 { min } else { max };
                             let point = Vec3::new(
                                 pick(1, bounds.min.x, bounds.max.x),
                                 pick(2, bounds.min.y, bounds.max.y),
@@ -572,7 +573,7 @@ impl Builder<'_> {
                 *low = low.min(from);
                 *high = high.max(to);
             }
-            if !(*low < *high) {
+            if *low >= *high {
                 return Err(self.error(
                     material.span(),
                     field,

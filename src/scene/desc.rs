@@ -173,7 +173,8 @@ pub enum MaterialDesc {
 }
 
 impl TypeNames for MaterialDesc {
-    const TYPES: &'static [&'static str] = &["diffuse", "mirror", "dielectric", "film", "polarizer", "retarder"];
+    const TYPES: &'static [&'static str] =
+        &["diffuse", "mirror", "dielectric", "film", "polarizer", "retarder"];
 }
 
 /// A shape, selected by `type`.

@@ -74,13 +74,17 @@ fn soap_film_colour(name: &str, threads: usize, fault: Option<Fault>) -> Result<
         let film = render(&scene, &job)?.0;
         let count = film.xyz().len() as f64;
         let mean = film.xyz().iter().fold([0.0_f64; 3], |sum, p| {
-            [sum[0] + f64::from(p.x) / count, sum[1] + f64::from(p.y) / count, sum[2] + f64::from(p.z) / count]
+            [
+                sum[0] + f64::from(p.x) / count,
+                sum[1] + f64::from(p.y) / count,
+                sum[2] + f64::from(p.z) / count,
+            ]
         });
-        let expected = xyz_by_quadrature(|lambda_nm| {
-            reference_reflectance(thickness_nm, f64::from(lambda_nm)) as f32
-        });
+        let expected =
+            xyz_by_quadrature(|lambda_nm| reference_reflectance(thickness_nm, f64::from(lambda_nm)) as f32);
         let expected = [f64::from(expected.x), f64::from(expected.y), f64::from(expected.z)];
-        let error = (0..3).map(|k| (mean[k] - expected[k]).abs()).fold(0.0_f64, |a, b| a.max(b)) / brightest();
+        let error =
+            (0..3).map(|k| (mean[k] - expected[k]).abs()).fold(0.0_f64, |a, b| a.max(b)) / brightest();
         // NaN counts as a failure.
         worst = if error.is_nan() { f64::INFINITY } else { worst.max(error) };
     }
