@@ -358,6 +358,64 @@ fn bad_coatings_are_rejected() {
     assert!(produced);
 }
 
+/// Issue 41: a free-standing film's thickness and index are checked at load, each error naming
+/// the field (a negative, non-finite or absurd thickness, a drained film missing a part, an
+/// index below the air's, an unknown one, a drained film over a plane without heights).
+#[test]
+fn bad_films_are_rejected() {
+    let film =
+        |body: &str| GOOD.replace("type = \"dielectric\"\nior = 1.5", &format!("type = \"film\"\n{body}"));
+    let line = at_line_of(GOOD, "[materials.glass]");
+    for thickness in ["-5", "nan", "inf", "1e6"] {
+        assert_rejected(
+            &film(&format!("thickness_nm = {thickness}")),
+            &[&line, "materials.glass.thickness_nm", "100 µm"],
+        );
+    }
+    let drained = |fields: &str| film(&format!("thickness_nm = {{ {fields} }}"));
+    assert_rejected(
+        &drained("top = -1, bottom = 500, axis = [0, 1, 0]"),
+        &[&line, "materials.glass.thickness_nm.top"],
+    );
+    assert_rejected(
+        &drained("top = 100, bottom = 2e5, axis = [0, 1, 0]"),
+        &[&line, "materials.glass.thickness_nm.bottom"],
+    );
+    assert_rejected(&drained("top = 100, bottom = 500"), &["materials.glass.thickness_nm", "axis"]);
+    assert_rejected(&drained("value = 100, top = 100"), &["materials.glass.thickness_nm", "a number, or"]);
+    assert_rejected(
+        &drained("top = 100, bottom = 500, axis = [0, 0, 0]"),
+        &["materials.glass.thickness_nm.axis"],
+    );
+    assert_rejected(
+        &drained("top = 100, bottom = 500, axis = [0, 1, 0], heights = [1, -1]"),
+        &["materials.glass.thickness_nm.heights", "bottom < top"],
+    );
+    assert_rejected(&drained("top = 100, bottom = 500, axis = [0, 1, 0], colour = 1"), &["colour"]);
+    assert_rejected(&film("ior = 0.8\nthickness_nm = 300"), &[&line, "materials.glass.ior", "n ≥ 1"]);
+    assert_rejected(
+        &film("ior = { glass = \"unobtainium\" }\nthickness_nm = 300"),
+        &["materials.glass.ior", "unobtainium"],
+    );
+    assert_rejected(&film(""), &["thickness_nm"]);
+    // A plane has no top: a drained film on one needs its heights.
+    let on_plane = drained("top = 100, bottom = 500, axis = [0, 1, 0]").replace(
+        "type = \"sphere\"\ncenter = [0, 0, 0]\nradius = 1",
+        "type = \"plane\"\npoint = [0, -1, 0]\nnormal = [0, 1, 0]",
+    );
+    assert_rejected(&on_plane, &["materials.glass.thickness_nm.heights", "plane"]);
+    // The thinnest and thickest films load and render, as does a drained bubble.
+    for body in [
+        "thickness_nm = 0",
+        "thickness_nm = 1e5",
+        "thickness_nm = { top = 0, bottom = 1e5, axis = [0, 1, 0] }",
+    ] {
+        let (code, stderr, produced) = render_text(&film(body), &[]);
+        assert_eq!(code, 0, "{body}: {stderr}");
+        assert!(produced);
+    }
+}
+
 /// An unknown integrator names the valid ones; a setting of Whitted's alone in a path scene is
 /// an error naming it (issue 39).
 #[test]

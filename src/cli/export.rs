@@ -15,7 +15,7 @@ use serde_json::{json, Map, Value};
 
 use super::{output_error, say, CliError};
 use prisma::light::Light;
-use prisma::material::{Conductor, Material};
+use prisma::material::{Conductor, Material, Thickness};
 use prisma::optics::Ior;
 use prisma::output::file::{check_destination, check_not_inputs, text_into, Outputs};
 use prisma::spectrum::{DenseSpectrum, LAMBDA_MAX_NM, LAMBDA_MIN_NM};
@@ -84,6 +84,16 @@ pub fn run(args: &ExportArgs) -> Result<(), CliError> {
                 "ior": ior_table(&d.ior),
                 "dispersive": d.ior.is_dispersive(),
                 "absorption": d.absorption.as_ref().map(table),
+            }),
+            Material::Film(f) => json!({
+                "type": "film",
+                "ior": ior_table(&f.ior),
+                "thickness_nm": match f.thickness {
+                    Thickness::Constant(nm) => json!(nm),
+                    Thickness::Drained { top_nm, bottom_nm, axis, low, high } => json!({
+                        "top": top_nm, "bottom": bottom_nm, "axis": axis.to_array(), "heights": [low, high],
+                    }),
+                },
             }),
             Material::Black => json!({ "type": "black" }),
         };

@@ -427,8 +427,8 @@ fn aimed(cones: impl Iterator<Item = Option<Cone>>, own: f32, spot: Option<&Spot
     (total, Directions::Cones { cones: kept, total })
 }
 
-/// Bounding spheres of every mirror and glass object (spheres, quads, one per mesh), or `None`
-/// when one is an infinite plane. Polarisers and retarders are not targets: light passes them
+/// Bounding spheres of every mirror, glass and film object (spheres, quads, one per mesh), or
+/// `None` when one is an infinite plane. Polarisers and retarders are not targets: light passes them
 /// unchanged in direction, and a path that meets only them ends at a diffuse surface Whitted
 /// already lights through them.
 fn targets(scene: &Scene) -> Option<Vec<Target>> {
@@ -437,7 +437,7 @@ fn targets(scene: &Scene) -> Option<Vec<Target>> {
     for (shape, surface) in scene.geometry.shapes().iter().zip(&scene.surfaces) {
         if !matches!(
             scene.materials[surface.material as usize],
-            Material::Mirror(_) | Material::Dielectric(_)
+            Material::Mirror(_) | Material::Dielectric(_) | Material::Film(_)
         ) {
             continue;
         }

@@ -126,13 +126,14 @@ use glam::Vec3;
 use super::emission::{Cone, Emission};
 use super::guide::EmissionGuide;
 use super::{
-    coated_matrices, element, fresnel, refraction, rotation, Beam, Fault, MonochromaticIndices, TraceStats,
+    coated_matrices, element, film_matrices, fresnel, refraction, rotation, Beam, Fault,
+    MonochromaticIndices, TraceStats,
 };
 use crate::camera::FilmPoint;
 use crate::film::{FilmLayout, Splats};
 use crate::geometry::{spawn_origin, Hit, Ray};
 use crate::light::Light;
-use crate::material::{Dielectric, Diffuse, Material};
+use crate::material::{Dielectric, Diffuse, Film, Material};
 use crate::optics::{reflect, DielectricFresnel};
 use crate::polarization::frame::{any_perpendicular, s_axis};
 use crate::polarization::mueller::JonesDiagonal;
@@ -277,7 +278,7 @@ impl<'a> LightTracer<'a> {
             .scene
             .materials
             .iter()
-            .any(|m| matches!(m, Material::Mirror(_) | Material::Dielectric(_)))
+            .any(|m| matches!(m, Material::Mirror(_) | Material::Dielectric(_) | Material::Film(_)))
         {
             Some("the scene has no mirror or glass")
         } else if self.emission.is_empty() {
@@ -431,6 +432,7 @@ impl<'a> LightTracer<'a> {
                     let glass = (surface.material, dielectric);
                     self.dielectric(glass, hit, &photon, wavelengths, reference, scratch, rng);
                 }
+                Material::Film(film) => self.film(film, hit, &photon, wavelengths, reference, scratch, rng),
                 Material::Polarizer(polarizer) => {
                     let dir = photon.ray.dir;
                     let axis = polarizer.transmission_axis(hit.normal, dir);
@@ -610,6 +612,43 @@ impl<'a> LightTracer<'a> {
             }
         }
         self.choose_branch::<B>(&branches, incident.through(&reflection), &refracted, scratch, rng);
+    }
+
+    /// A free-standing film: its reflection and its straight-through transmission, as flux (air
+    /// on both sides: nothing to scale), continued as glass's branches are
+    /// ([`Self::choose_branch`]: both at the path's first interaction, one chosen by flux after).
+    #[allow(clippy::too_many_arguments)] // the path's state, passed flat
+    fn film<B: Beam>(
+        &self,
+        film: &Film,
+        hit: &Hit,
+        photon: &Photon<B>,
+        wavelengths: &SampledWavelengths,
+        reference: f32,
+        scratch: &mut Scratch<B>,
+        rng: &mut LightPathRng,
+    ) {
+        let dir = photon.ray.dir;
+        let live = photon.flux.components()[0].positive_lanes();
+        if live == 0 {
+            return;
+        }
+        let normal = hit.shading_normal;
+        let cos_theta_i = -dir.dot(normal);
+        let thickness_nm = film.thickness.at(hit.point);
+        let (reflection, transmission) =
+            film_matrices::<B>(self.fault, film, cos_theta_i, thickness_nm, wavelengths, live);
+        let s = if B::POLARIZED { s_axis(normal, dir, photon.frame_x) } else { photon.frame_x };
+        let incident = photon.flux.rotated(rotation(self.fault, dir, photon.frame_x, s));
+        let branches = Branches { hit, photon, reference, frame_x: s };
+        let straight = Some((dir, incident.through(&transmission)));
+        self.choose_branch::<B>(
+            &branches,
+            incident.through(&reflection),
+            std::slice::from_ref(&straight),
+            scratch,
+            rng,
+        );
     }
 
     /// The refracted direction and the Mueller matrix of a refraction with Fresnel terms `f`, or

@@ -20,7 +20,7 @@ pub use path::PathTracer;
 pub use response::PathBeam;
 pub use whitted::Whitted;
 
-use crate::material::{Dielectric, Material};
+use crate::material::{Dielectric, Film, Material};
 use crate::optics::{fresnel_dielectric, refract, DielectricFresnel};
 use crate::polarization::mueller::JonesDiagonal;
 use crate::polarization::{Mueller, Rotation};
@@ -253,6 +253,43 @@ pub(crate) fn coated_matrices<B: Beam>(
             wavelengths.lambda_nm(lane),
             coating_fault(fault),
         );
+        reflection[lane] = element(fault, interface.reflection);
+        transmission[lane] = element(fault, interface.transmission);
+    }
+    if B::POLARIZED {
+        (Mueller::from_lanes(&reflection), Mueller::from_lanes(&transmission))
+    } else {
+        let average = |elements: [JonesDiagonal; N_LAMBDA]| {
+            Mueller::attenuation(SampledSpectrum { values: elements.map(|e| e.a) })
+        };
+        (average(reflection), average(transmission))
+    }
+}
+
+/// A free-standing film's reflection and transmission matrices at every lane, in the s/p frame
+/// of an incidence at `cos_theta_i` (either sign) on its point of thickness `thickness_nm`:
+/// polarised when `B` carries Stokes vectors, the s/p averages (R_s + R_p)/2 and
+/// (T_s + T_p)/2 when not. Lanes outside `live` (bit i: lane i) are left zero. Air on both
+/// sides: no radiance scaling, camera and light paths alike. The faults that scale an index or
+/// flip a phase apply to the film too.
+pub(crate) fn film_matrices<B: Beam>(
+    fault: Option<Fault>,
+    film: &Film,
+    cos_theta_i: f32,
+    thickness_nm: f32,
+    wavelengths: &SampledWavelengths,
+    live: u32,
+) -> (Mueller, Mueller) {
+    let zero = JonesDiagonal { a: 0.0, b: 0.0, w_re: 0.0, w_im: 0.0 };
+    let mut reflection = [zero; N_LAMBDA];
+    let mut transmission = [zero; N_LAMBDA];
+    for lane in (0..N_LAMBDA).filter(|&i| live & (1 << i) != 0) {
+        let lambda_nm = wavelengths.lambda_nm(lane);
+        let n_film = match fault {
+            Some(Fault::IorScale(scale)) => film.ior.eval(lambda_nm) * scale,
+            _ => film.ior.eval(lambda_nm),
+        };
+        let interface = Film::interface(cos_theta_i, n_film, thickness_nm, lambda_nm);
         reflection[lane] = element(fault, interface.reflection);
         transmission[lane] = element(fault, interface.transmission);
     }

@@ -20,7 +20,7 @@
 //! | L S⁺ D X\* S⁺ E, L a delta light    | **nobody**: no camera path reaches a point, spot or    |
 //! |                                    | beam light through S, no light path reaches a pinhole |
 //!
-//! (X is S or D.) The classes are disjoint and, but for the last, cover every path; without
+//! (X is S or D; a free-standing film is S.) The classes are disjoint and, but for the last, cover every path; without
 //! the light tracer (`caustics = false`) the camera paths count the L S⁺ D X\* D E paths of
 //! area lights too (by BSDF hits), and those of delta lights are missing.
 //!
@@ -67,11 +67,12 @@ use glam::Vec3;
 use super::response::{PathBeam, Response};
 use super::visibility::{self, Sheet};
 use super::{
-    coated_matrices, element, fresnel, refraction, rotation, Fault, MonochromaticIndices, TraceStats,
+    coated_matrices, element, film_matrices, fresnel, refraction, rotation, Fault, MonochromaticIndices,
+    TraceStats,
 };
 use crate::geometry::{spawn_origin, Hit, Ray};
 use crate::light::{Light, LightSample};
-use crate::material::{Dielectric, Diffuse, Material};
+use crate::material::{Dielectric, Diffuse, Film, Material};
 use crate::optics::{reflect, DielectricFresnel};
 use crate::polarization::frame::{any_perpendicular, s_axis};
 use crate::polarization::mueller::JonesDiagonal;
@@ -282,6 +283,7 @@ impl<'a> PathTracer<'a> {
                     rng,
                     pending,
                 ),
+                Material::Film(film) => self.film::<B>(&mut state, film, hit, wavelengths, rng),
                 Material::Polarizer(_) | Material::Retarder(_) => {
                     let Some(sheet) = Sheet::of(material) else { return light };
                     let dir = state.ray.dir;
@@ -565,6 +567,48 @@ impl<'a> PathTracer<'a> {
             state.response = state.response.through(mueller);
         }
         state.ray = Ray::new(spawn_origin(hit.point, hit.normal, dir), dir);
+    }
+
+    /// A free-standing film: one branch, the mirrored or the straight one, chosen with
+    /// probability proportional to the film's R or T summed over the live lanes (weighted by
+    /// the path's response) and divided by it. False when the path ends.
+    fn film<B: PathBeam>(
+        &self,
+        state: &mut PathState<B::Response>,
+        film: &Film,
+        hit: &Hit,
+        wavelengths: &SampledWavelengths,
+        rng: &mut PixelRng,
+    ) -> bool {
+        let dir = state.ray.dir;
+        let normal = hit.shading_normal;
+        let cos_theta_i = -dir.dot(normal);
+        let thickness_nm = film.thickness.at(hit.point);
+        let (reflection, transmission) =
+            film_matrices::<B>(self.fault, film, cos_theta_i, thickness_nm, wavelengths, state.live);
+        let strength = state.response.strength();
+        let (mut reflected_sum, mut transmitted_sum) = (0.0f32, 0.0f32);
+        for lane in (0..N_LAMBDA).filter(|&i| state.live & (1 << i) != 0) {
+            let w = strength[lane].abs();
+            reflected_sum += w * reflection.a[lane];
+            transmitted_sum += w * transmission.a[lane];
+        }
+        let total = reflected_sum + transmitted_sum;
+        if total.is_nan() || total <= 0.0 {
+            return false;
+        }
+        let p_reflect = reflected_sum / total;
+        state.previous = Previous::Specular;
+        state.eye_vertex_diffuse.get_or_insert(false);
+        if rng.uniform() < p_reflect {
+            let reflection = reflection.scaled(SampledSpectrum::splat(1.0 / p_reflect));
+            let reflected = reflect(dir, normal).normalize();
+            self.turn::<B>(state, hit, normal, &reflection, reflected);
+        } else {
+            let transmission = transmission.scaled(SampledSpectrum::splat(1.0 / (1.0 - p_reflect)));
+            self.turn::<B>(state, hit, normal, &transmission, dir);
+        }
+        true
     }
 
     /// Glass: Beer–Lambert over the segment inside, then one branch, reflected or refracted,

@@ -12,6 +12,8 @@
 //!   (n_t/n_i)² in the direction light flows, so the camera sees (n_i/n_t)² of it), with total
 //!   internal reflection giving R = 1. Inside or outside is read from the ray direction and the
 //!   outward normal at each hit, never carried along;
+//! - a free-standing film (soap film) spawns its reflection and the straight-through branch,
+//!   weighted by the film's R and T (`material::film`);
 //! - escaping rays take the background radiance.
 //!
 //! The wavelengths of a camera sample travel together until a dispersive refraction, where every
@@ -39,10 +41,10 @@
 use glam::Vec3;
 
 use super::visibility::{self, Sheet, SHADOW_RAY_SHORTENING};
-use super::{coated_matrices, refraction, Beam, Fault, MonochromaticIndices, TraceStats};
+use super::{coated_matrices, film_matrices, refraction, Beam, Fault, MonochromaticIndices, TraceStats};
 use crate::geometry::{spawn_origin, Hit, Ray};
 use crate::light::Light;
-use crate::material::{Dielectric, Diffuse, Material};
+use crate::material::{Dielectric, Diffuse, Film, Material};
 use crate::optics::{reflect, DielectricFresnel};
 use crate::polarization::frame::s_axis;
 use crate::polarization::mueller::JonesDiagonal;
@@ -184,6 +186,10 @@ impl<'a> Whitted<'a> {
                     rng,
                     stats,
                 );
+            }
+            Material::Film(film) => {
+                radiance +=
+                    self.film::<B>(film, hit, ray.dir, frame_x, throughput, wavelengths, depth, rng, stats)
             }
             Material::Polarizer(polarizer) => {
                 radiance += self.sheet::<B>(
@@ -378,6 +384,44 @@ impl<'a> Whitted<'a> {
             }
         }
         radiance.scaled(transmittance).rotated(self.rotation(-dir, s, frame_x))
+    }
+
+    /// A free-standing film: both branches, the mirrored one through the film's reflection and
+    /// the straight one through its transmission (`material::film`), all lanes together.
+    #[allow(clippy::too_many_arguments)] // the recursion state is passed flat to stay allocation-free
+    fn film<B: Beam>(
+        &self,
+        film: &Film,
+        hit: &Hit,
+        dir: Vec3,
+        frame_x: Vec3,
+        throughput: SampledSpectrum,
+        wavelengths: &SampledWavelengths,
+        depth: u32,
+        rng: &mut PixelRng,
+        stats: &mut TraceStats,
+    ) -> B {
+        if depth >= self.max_depth {
+            return B::zero();
+        }
+        let live = (0..N_LAMBDA).filter(|&i| throughput[i] > 0.0).fold(0_u32, |bits, i| bits | 1 << i);
+        if live == 0 {
+            return B::zero();
+        }
+        let normal = hit.shading_normal;
+        let cos_theta_i = -dir.dot(normal);
+        let thickness_nm = film.thickness.at(hit.point);
+        let (reflection, transmission) =
+            film_matrices::<B>(self.fault, film, cos_theta_i, thickness_nm, wavelengths, live);
+        let s = if B::POLARIZED { s_axis(normal, -dir, frame_x) } else { frame_x };
+        let reflected_dir = reflect(dir, normal).normalize();
+        let mut radiance = self
+            .branch::<B>(hit, reflected_dir, s, reflection.a, throughput, wavelengths, depth, rng, stats)
+            .through(&reflection);
+        radiance += self
+            .branch::<B>(hit, dir, s, transmission.a, throughput, wavelengths, depth, rng, stats)
+            .through(&transmission);
+        radiance.rotated(self.rotation(-dir, s, frame_x))
     }
 
     /// The refracted direction and the Mueller matrix of a refraction with Fresnel terms `f` as

@@ -1,9 +1,11 @@
 //! Materials: how a surface scatters light in prisma's Whitted model. A closed set, dispatched by
 //! `match`: diffuse surfaces take direct light, mirrors and dielectrics spawn specular branches,
-//! polarisers and retarders (sheets that only change the polarisation) let light through.
+//! polarisers and retarders (sheets that only change the polarisation) let light through, and
+//! free-standing films (soap films) reflect and transmit without bending the ray.
 
 pub mod dielectric;
 pub mod diffuse;
+pub mod film;
 pub mod mirror;
 pub mod polarizer;
 pub mod retarder;
@@ -14,6 +16,7 @@ pub use dielectric::{
     CoatedInterface, CoatingFault, CoatingLayer, Dielectric, LayerIndex, MAX_COATING_LAYERS,
 };
 pub use diffuse::Diffuse;
+pub use film::{Film, FilmInterface, Thickness};
 pub use mirror::{Conductor, Mirror};
 pub use polarizer::Polarizer;
 pub use retarder::Retarder;
@@ -31,6 +34,8 @@ pub enum Material {
     Polarizer(Polarizer),
     /// Ideal linear retarder sheet (wave plate): light passes straight through, retarded.
     Retarder(Retarder),
+    /// Free-standing thin film (a soap film): coherent reflection and straight transmission.
+    Film(Film),
     /// Reflects nothing (the surface of an area light).
     Black,
 }

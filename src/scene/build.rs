@@ -11,7 +11,7 @@ use toml::Spanned;
 
 use super::desc::{
     CameraDesc, CoatingLayerDesc, EmitSide, IorDesc, LightDesc, MaterialDesc, RenderDesc, SceneDesc,
-    ShapeDesc, SpectrumDesc,
+    ShapeDesc, SpectrumDesc, ThicknessDesc,
 };
 use super::error::{line_column, one_line, shorten};
 use super::typed::Typed;
@@ -20,7 +20,8 @@ use crate::camera::{Camera, Pinhole, ThinLens};
 use crate::geometry::{Geometry, Mesh, Plane, Quad, Shape, Sphere};
 use crate::light::{BeamLight, Light, PointLight, QuadLight, SpotLight};
 use crate::material::{
-    CoatingLayer, Conductor, Dielectric, Diffuse, LayerIndex, Material, Mirror, Polarizer, Retarder,
+    CoatingLayer, Conductor, Dielectric, Diffuse, Film, LayerIndex, Material, Mirror, Polarizer, Retarder,
+    Thickness,
     MAX_COATING_LAYERS,
 };
 use crate::optics::{catalogue, metals, Ior};
@@ -121,6 +122,7 @@ impl Builder<'_> {
             let known = Materials { ids: &material_ids, built: &materials };
             self.shape(index, shape, &known, &mut shapes, &mut surfaces, &mut meshes)?;
         }
+        self.film_heights(&desc, &material_ids, &mut materials, &shapes, &surfaces, &meshes)?;
 
         let mut lights = Vec::with_capacity(desc.lights.len());
         let mut black = None;
@@ -395,6 +397,29 @@ impl Builder<'_> {
                 let coating = self.coating(coating.as_deref().unwrap_or(&[]), span, &field("coating"))?;
                 Material::Dielectric(Dielectric { ior, absorption, coating })
             }
+            MaterialDesc::Film { ior, thickness_nm } => {
+                let ior = match ior {
+                    Some(ior) => self.ior(ior, span.clone(), &field("ior"))?,
+                    None => catalogue::glass_ior("water").ok_or_else(|| {
+                        self.error(span.clone(), field("ior"), "water is missing from the glass catalogue")
+                    })?,
+                };
+                // A film denser than the air around it: no wave in it is evanescent, so its
+                // transfer matrix stays bounded at every angle.
+                let whole_nm = (LAMBDA_MIN_NM as u32..=LAMBDA_MAX_NM as u32).map(|nm| nm as f32);
+                if let Some(lambda_nm) = whole_nm.into_iter().find(|&nm| ior.eval(nm) < 1.0) {
+                    return Err(self.error(
+                        span,
+                        field("ior"),
+                        format!(
+                            "n = {} at {lambda_nm} nm; a film in air must have n ≥ 1",
+                            number(ior.eval(lambda_nm))
+                        ),
+                    ));
+                }
+                let thickness = self.film_thickness(thickness_nm, span, &field("thickness_nm"))?;
+                Material::Film(Film { ior, thickness })
+            }
             MaterialDesc::Polarizer { axis, transmittance } => {
                 let axis = self.direction(*axis, span.clone(), &field("axis"))?.normalize();
                 let transmittance = match transmittance {
@@ -498,6 +523,137 @@ impl Builder<'_> {
             ));
         }
         Ok(num_complex::Complex32::new(n, k))
+    }
+
+    /// A film's thickness: a constant, or a drained profile (`material::film`), each thickness
+    /// in [0, [`MAX_COATING_THICKNESS_NM`]] nm. A drained film without `heights` gets
+    /// the empty interval here, and the extent of its shapes in [`Self::film_heights`].
+    fn film_thickness(
+        &self,
+        desc: &ThicknessDesc,
+        span: std::ops::Range<usize>,
+        field: &str,
+    ) -> Result<Thickness, SceneError> {
+        let fields = &desc.0;
+        let err = |at: &str, message: String| self.error(span.clone(), format!("{field}{at}"), message);
+        let check = |value: f32, at: &str| {
+            if value.is_finite() && (0.0..=MAX_COATING_THICKNESS_NM).contains(&value) {
+                Ok(value)
+            } else {
+                Err(err(
+                    at,
+                    format!(
+                        "must be ≥ 0 and at most {MAX_COATING_THICKNESS_NM} nm (100 µm), got {}",
+                        number(value)
+                    ),
+                ))
+            }
+        };
+        let drained = [fields.top.is_some(), fields.bottom.is_some(), fields.axis.is_some()];
+        match (fields.value, drained) {
+            (Some(value), [false, false, false]) if fields.heights.is_none() => {
+                Ok(Thickness::Constant(check(value, "")?))
+            }
+            (None, [true, true, true]) => {
+                let (Some(top), Some(bottom), Some(axis)) = (fields.top, fields.bottom, fields.axis) else {
+                    unreachable!("all three were checked present")
+                };
+                let top_nm = check(top, ".top")?;
+                let bottom_nm = check(bottom, ".bottom")?;
+                let axis = self.direction(axis, span.clone(), &format!("{field}.axis"))?.normalize();
+                let (low, high) = match fields.heights {
+                    Some([low, high]) => {
+                        if !(low.is_finite()
+                            && high.is_finite()
+                            && low < high
+                            && low.abs() <= MAX_COORDINATE
+                            && high.abs() <= MAX_COORDINATE)
+                        {
+                            return Err(err(
+                                ".heights",
+                                format!(
+                                    "must be [bottom, top] with bottom < top, within ±{MAX_COORDINATE}, got [{}, {}]",
+                                    number(low),
+                                    number(high)
+                                ),
+                            ));
+                        }
+                        (low, high)
+                    }
+                    None => (f32::INFINITY, f32::NEG_INFINITY),
+                };
+                Ok(Thickness::Drained { top_nm, bottom_nm, axis, low, high })
+            }
+            _ => Err(err(
+                "",
+                "give a number, or all of `top`, `bottom` and `axis` (and optionally `heights`)".into(),
+            )),
+        }
+    }
+
+    /// The heights of drained films given without `heights`: the extent along the film's axis
+    /// of the shapes that use it (spheres exactly, other shapes by their bounding boxes).
+    fn film_heights(
+        &self,
+        desc: &SceneDesc,
+        ids: &BTreeMap<&str, u32>,
+        materials: &mut [Material],
+        shapes: &[Shape],
+        surfaces: &[Surface],
+        meshes: &[Mesh],
+    ) -> Result<(), SceneError> {
+        for (name, material) in &desc.materials {
+            let Some(&id) = ids.get(name.as_str()) else { continue };
+            let Material::Film(Film { thickness: Thickness::Drained { axis, low, high, .. }, .. }) =
+                &mut materials[id as usize]
+            else {
+                continue;
+            };
+            if *low <= *high {
+                continue; // `heights` given
+            }
+            let field = format!("materials.{name}.thickness_nm.heights");
+            for (shape, surface) in shapes.iter().zip(surfaces) {
+                if surface.material != id {
+                    continue;
+                }
+                let (from, to) = match shape {
+                    Shape::Sphere(sphere) => {
+                        let centre = sphere.center.dot(*axis);
+                        (centre - sphere.radius, centre + sphere.radius)
+                    }
+                    _ => {
+                        let Some(bounds) = shape.bounds(meshes) else {
+                            return Err(self.error(
+                                material.span(),
+                                field,
+                                "a plane has no top or bottom: give `heights = [bottom, top]`",
+                            ));
+                        };
+                        (0..8).fold((f32::INFINITY, f32::NEG_INFINITY), |(from, to), corner| {
+                            let pick =
+                                |bit: u32, min: f32, max: f32| if corner & bit == 0 { min } else { max };
+                            let point = Vec3::new(
+                                pick(1, bounds.min.x, bounds.max.x),
+                                pick(2, bounds.min.y, bounds.max.y),
+                                pick(4, bounds.min.z, bounds.max.z),
+                            );
+                            (from.min(point.dot(*axis)), to.max(point.dot(*axis)))
+                        })
+                    }
+                };
+                *low = low.min(from);
+                *high = high.max(to);
+            }
+            if *low >= *high {
+                return Err(self.error(
+                    material.span(),
+                    field,
+                    "no shape with this film has any height along its axis: give `heights = [bottom, top]`",
+                ));
+            }
+        }
+        Ok(())
     }
 
     fn ior(&self, desc: &IorDesc, span: std::ops::Range<usize>, field: &str) -> Result<Ior, SceneError> {

@@ -156,6 +156,15 @@ pub enum MaterialDesc {
         #[serde(default)]
         coating: Option<Vec<CoatingLayerDesc>>,
     },
+    /// Free-standing thin film in air (a soap film): coherent reflection and straight
+    /// transmission (`material::film`).
+    Film {
+        /// The film's index of refraction (n ≥ 1); water (`{ glass = "water" }`) when absent.
+        #[serde(default)]
+        ior: Option<IorDesc>,
+        /// Thickness in nm: a number, or a drained film `{ top, bottom, axis, heights }`.
+        thickness_nm: ThicknessDesc,
+    },
     /// Ideal linear polariser sheet (flat shapes only).
     Polarizer {
         /// Transmission axis in world space (projected onto the sheet).
@@ -174,7 +183,8 @@ pub enum MaterialDesc {
 }
 
 impl TypeNames for MaterialDesc {
-    const TYPES: &'static [&'static str] = &["diffuse", "mirror", "dielectric", "polarizer", "retarder"];
+    const TYPES: &'static [&'static str] =
+        &["diffuse", "mirror", "dielectric", "film", "polarizer", "retarder"];
 }
 
 /// A shape, selected by `type`.
@@ -384,6 +394,28 @@ pub struct CoatingLayerDesc {
     pub thickness_nm: f32,
 }
 
+/// A film's thickness: a number (nm), or the table of a film drained by gravity.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ThicknessDesc(pub ThicknessFields);
+
+/// The table form of a film's thickness: `value` (a constant, nm), or `top` and `bottom` (nm)
+/// along `axis` (pointing up), between `heights` = [bottom, top] in scene units (the extent of
+/// the shapes with the film when absent).
+#[derive(Debug, Clone, PartialEq, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct ThicknessFields {
+    /// Constant thickness (nm).
+    pub value: Option<f32>,
+    /// Thickness at the top (nm).
+    pub top: Option<f32>,
+    /// Thickness at the bottom (nm).
+    pub bottom: Option<f32>,
+    /// The up direction (any non-zero length).
+    pub axis: Option<[f32; 3]>,
+    /// Heights of the bottom and the top along the unit axis (scene units).
+    pub heights: Option<[f32; 2]>,
+}
+
 /// Sellmeier coefficients.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -427,3 +459,8 @@ macro_rules! number_or_table {
 
 number_or_table!(SpectrumDesc, SpectrumFields, "a number or a spectrum table such as { rgb = [r, g, b] }");
 number_or_table!(IorDesc, IorFields, "a number or an IOR table such as { glass = \"N-BK7\" }");
+number_or_table!(
+    ThicknessDesc,
+    ThicknessFields,
+    "a number (nm) or a drained film such as { top = 150, bottom = 900, axis = [0, 1, 0] }"
+);

@@ -14,8 +14,9 @@ use crate::scene::{parse, Scene};
 
 /// Names of the analytic cases, in the order [`run`] runs them: the radiometric cases of this
 /// module, the polarisation cases of [`super::polarization`], the caustic cases of
-/// [`super::caustics`], then the closed forms of full transport of [`super::furnace`].
-pub const CASES: [&str; 23] = [
+/// [`super::caustics`], the closed forms of full transport of [`super::furnace`], then the
+/// soap-film colour of [`super::film`].
+pub const CASES: [&str; 24] = [
     "lambert_point_light",
     "furnace_glass",
     "furnace_dispersive_glass",
@@ -39,6 +40,7 @@ pub const CASES: [&str; 23] = [
     "emitting_box",
     "emitting_box_whitted",
     "sphere_under_sky",
+    "soap_film_colour",
 ];
 
 /// What the analytic case `name` is compared with: the electric-field tracer for the
@@ -67,6 +69,7 @@ pub fn run(name: &str, threads: usize, fault: Option<Fault>) -> Result<CaseResul
         name if super::polarization::CASES.contains(&name) => super::polarization::run(name, threads, fault),
         name if super::caustics::CASES.contains(&name) => super::caustics::run(name, threads, fault),
         name if super::furnace::CASES.contains(&name) => super::furnace::run(name, threads, fault),
+        name if super::film::CASES.contains(&name) => super::film::run(name, threads, fault),
         _ => Err(ValidateError::Input(format!(
             "unknown analytic case \"{name}\"; known: {}",
             CASES.join(", ")

@@ -7,6 +7,7 @@ pub mod analytic;
 pub mod cases;
 pub mod caustics;
 pub mod field;
+pub mod film;
 pub mod furnace;
 pub mod metrics;
 pub mod mitsuba;
