@@ -27,16 +27,7 @@ fn surface(
     semi_diameter_mm: f64,
     is_stop: bool,
 ) -> Surface {
-    Surface {
-        radius_mm,
-        conic: 0.0,
-        aspheric_mm: vec![],
-        thickness_mm,
-        medium,
-        semi_diameter_mm,
-        is_stop,
-        line: 0,
-    }
+    Surface::spherical(radius_mm, thickness_mm, medium, semi_diameter_mm, is_stop)
 }
 
 fn catalogue(name: &str) -> Medium {

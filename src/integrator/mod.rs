@@ -256,10 +256,19 @@ pub(crate) fn coated_matrices<B: Beam>(
         reflection[lane] = element(fault, interface.reflection);
         transmission[lane] = element(fault, interface.transmission);
     }
+    lane_matrices::<B>(&reflection, &transmission)
+}
+
+/// The reflection and transmission matrices of per-lane Jones elements: Mueller matrices when
+/// `B` carries Stokes vectors, the s/p-averaged attenuations (each element's `a`) when not.
+fn lane_matrices<B: Beam>(
+    reflection: &[JonesDiagonal; N_LAMBDA],
+    transmission: &[JonesDiagonal; N_LAMBDA],
+) -> (Mueller, Mueller) {
     if B::POLARIZED {
-        (Mueller::from_lanes(&reflection), Mueller::from_lanes(&transmission))
+        (Mueller::from_lanes(reflection), Mueller::from_lanes(transmission))
     } else {
-        let average = |elements: [JonesDiagonal; N_LAMBDA]| {
+        let average = |elements: &[JonesDiagonal; N_LAMBDA]| {
             Mueller::attenuation(SampledSpectrum { values: elements.map(|e| e.a) })
         };
         (average(reflection), average(transmission))
@@ -293,14 +302,7 @@ pub(crate) fn film_matrices<B: Beam>(
         reflection[lane] = element(fault, interface.reflection);
         transmission[lane] = element(fault, interface.transmission);
     }
-    if B::POLARIZED {
-        (Mueller::from_lanes(&reflection), Mueller::from_lanes(&transmission))
-    } else {
-        let average = |elements: [JonesDiagonal; N_LAMBDA]| {
-            Mueller::attenuation(SampledSpectrum { values: elements.map(|e| e.a) })
-        };
-        (average(reflection), average(transmission))
-    }
+    lane_matrices::<B>(&reflection, &transmission)
 }
 
 /// A refraction with Fresnel terms `f` of light travelling along `dir` onto a surface with

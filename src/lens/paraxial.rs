@@ -227,16 +227,7 @@ mod tests {
     use crate::lens::{Medium, Surface};
 
     fn surface(radius_mm: f64, thickness_mm: f64, medium: Medium, semi: f64, is_stop: bool) -> Surface {
-        Surface {
-            radius_mm,
-            conic: 0.0,
-            aspheric_mm: vec![],
-            thickness_mm,
-            medium,
-            semi_diameter_mm: semi,
-            is_stop,
-            line: 0,
-        }
+        Surface::spherical(radius_mm, thickness_mm, medium, semi, is_stop)
     }
 
     /// A thick biconvex singlet of index n with the stop on its first surface.

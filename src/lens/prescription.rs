@@ -73,6 +73,27 @@ pub struct Surface {
 }
 
 impl Surface {
+    /// A spherical surface (flat when `radius_mm` is 0) built in code (line 0), for lenses
+    /// made by programs and tests rather than read from a file.
+    pub fn spherical(
+        radius_mm: f64,
+        thickness_mm: f64,
+        medium: Medium,
+        semi_diameter_mm: f64,
+        is_stop: bool,
+    ) -> Self {
+        Self {
+            radius_mm,
+            conic: 0.0,
+            aspheric_mm: Vec::new(),
+            thickness_mm,
+            medium,
+            semi_diameter_mm,
+            is_stop,
+            line: 0,
+        }
+    }
+
     /// Curvature 1/R in mm⁻¹ (0 for a flat surface).
     pub fn curvature_per_mm(&self) -> f64 {
         if self.radius_mm == 0.0 {
@@ -290,16 +311,7 @@ mod tests {
     use super::*;
 
     fn surface(radius_mm: f64, conic: f64, aspheric_mm: Vec<f64>) -> Surface {
-        Surface {
-            radius_mm,
-            conic,
-            aspheric_mm,
-            thickness_mm: 1.0,
-            medium: Medium::Air,
-            semi_diameter_mm: 1.0,
-            is_stop: false,
-            line: 0,
-        }
+        Surface { conic, aspheric_mm, ..Surface::spherical(radius_mm, 1.0, Medium::Air, 1.0, false) }
     }
 
     #[test]

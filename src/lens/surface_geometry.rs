@@ -170,14 +170,9 @@ mod tests {
 
     fn surface(radius_mm: f64, conic: f64, aspheric_mm: Vec<f64>) -> Surface {
         Surface {
-            radius_mm,
             conic,
             aspheric_mm,
-            thickness_mm: 5.0,
-            medium: Medium::constant(1.5),
-            semi_diameter_mm: 10.0,
-            is_stop: false,
-            line: 0,
+            ..Surface::spherical(radius_mm, 5.0, Medium::constant(1.5), 10.0, false)
         }
     }
 

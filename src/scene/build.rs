@@ -21,8 +21,7 @@ use crate::geometry::{Geometry, Mesh, Plane, Quad, Shape, Sphere};
 use crate::light::{BeamLight, Light, PointLight, QuadLight, SpotLight};
 use crate::material::{
     CoatingLayer, Conductor, Dielectric, Diffuse, Film, LayerIndex, Material, Mirror, Polarizer, Retarder,
-    Thickness,
-    MAX_COATING_LAYERS,
+    Thickness, MAX_COATING_LAYERS,
 };
 use crate::optics::{catalogue, metals, Ior};
 use crate::spectrum::{DenseSpectrum, Spectrum, LAMBDA_MAX_NM, LAMBDA_MIN_NM, N_LAMBDA};
