@@ -40,6 +40,7 @@ use std::time::{Duration, Instant};
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 
+use crate::camera::Camera;
 use crate::edges::{self, EdgeMap};
 use crate::film::{add_weighted_sample, Film, FilmLayout, NonFinitePixel, SpectralBands, Splats, WindowSums};
 use crate::fixed::FixedSum;
@@ -187,6 +188,38 @@ pub enum RenderError {
     /// A pixel came out NaN or infinite: radiance overflowed f32.
     #[error(transparent)]
     NonFinite(#[from] NonFinitePixel),
+    /// The camera cannot render with these settings (a lens system with caustics or
+    /// polarisation, [`lens_camera_refusal`]).
+    #[error("{0}")]
+    Camera(String),
+}
+
+/// Why a lens-system camera cannot render with `settings`, if it cannot, as the setting's name
+/// and the reason: light paths cannot be connected to the camera through glass (`caustics`),
+/// and the lens's Mueller matrices are not applied to Stokes vectors (`polarized`). `None` for
+/// every other camera.
+pub fn lens_camera_refusal(camera: &Camera, settings: &RenderSettings) -> Option<(&'static str, String)> {
+    let Camera::Lens(lens) = camera else { return None };
+    let file = lens.lens_file().display();
+    if settings.caustics {
+        return Some((
+            "caustics",
+            format!(
+                "light paths cannot be connected to the camera through the lens system {file}; \
+                 render without caustics (or with a thin lens)"
+            ),
+        ));
+    }
+    if settings.polarized {
+        return Some((
+            "polarized",
+            format!(
+                "a lens-system camera ({file}) renders unpolarised light only; set polarized = false \
+                 in [render] or pass --unpolarized"
+            ),
+        ));
+    }
+    None
 }
 
 /// Bytes of memory a render of `width`×`height` pixels of `layout` on `threads` threads needs,
@@ -248,6 +281,9 @@ pub fn render(scene: &Scene, job: &Job) -> Result<(Film, RenderStats), RenderErr
 /// Errors before any work when the sums cannot fit in memory, and when a sample's value cannot
 /// be summed (not finite, or beyond [`FixedSum`]'s range), naming the first such pixel.
 pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
+    if let Some((setting, message)) = lens_camera_refusal(&scene.camera, &job.settings) {
+        return Err(RenderError::Camera(format!("{setting}: {message}")));
+    }
     let (width, height) = (scene.camera.width(), scene.camera.height());
     let window = job.window.unwrap_or(PixelWindow::full(width, height));
     let samples = job.sample_set();
@@ -922,11 +958,15 @@ fn render_row<B: PathBeam>(
                     &sampled
                 }
             };
-            // A lens takes the next two dimensions (3 and 4); the pinhole none.
-            let ray =
-                scene.camera.sample_ray(x as f32 + jx, y as f32 + jy, || (rng.uniform(), rng.uniform()));
-            let frame_x = if B::POLARIZED { scene.camera.stokes_x(ray.dir) } else { ray.dir };
-            let light: B = integrator.radiance(&ray, frame_x, wavelengths, &mut rng, &mut stats);
+            let light: B = if let Camera::Lens(lens) = &scene.camera {
+                lens_sample(lens, integrator, (x as f32 + jx, y as f32 + jy), wavelengths, &mut rng, &mut stats)
+            } else {
+                // A lens takes the next two dimensions (3 and 4); the pinhole none.
+                let ray =
+                    scene.camera.sample_ray(x as f32 + jx, y as f32 + jy, || (rng.uniform(), rng.uniform()));
+                let frame_x = if B::POLARIZED { scene.camera.stokes_x(ray.dir) } else { ray.dir };
+                integrator.radiance(&ray, frame_x, wavelengths, &mut rng, &mut stats)
+            };
             add_weighted_sample(sums, &light, wavelengths, layout, weight)
         };
         for pass in block.clone() {
@@ -943,4 +983,34 @@ fn render_row<B: PathBeam>(
         }
     }
     (stats.rays, failed)
+}
+
+/// The light a lens-system camera records for one camera sample at film position `film`
+/// (pixels): the lens bends every wavelength its own way, so each live lane gets its own ray,
+/// traced through the lens at its wavelength with the same film position and pupil numbers
+/// (dimensions 3 and 4, as a thin lens's), and its own integrator call with that lane alone
+/// live ([`SampledWavelengths::lane_alone`]), weighted by the ray's weight
+/// ([`crate::lens::CameraRay::weight`]). A lane whose ray does not pass the lens adds 0.
+/// Unpolarised light only (polarised renders are refused with a lens system).
+fn lens_sample<B: PathBeam>(
+    lens: &crate::camera::LensCamera,
+    integrator: &CameraIntegrator,
+    film: (f32, f32),
+    wavelengths: &SampledWavelengths,
+    rng: &mut PixelRng,
+    stats: &mut TraceStats,
+) -> B {
+    debug_assert!(!B::POLARIZED, "a lens-system camera renders unpolarised light");
+    let u_pupil = (rng.uniform(), rng.uniform());
+    let mut total = B::zero();
+    for lane in 0..wavelengths.active() {
+        let traced = lens.sample_ray(film.0, film.1, u_pupil, wavelengths.lambda_nm(lane), &mut || {
+            f64::from(rng.uniform())
+        });
+        let Some((ray, weight)) = traced else { continue };
+        let alone = wavelengths.lane_alone(lane);
+        let light: B = integrator.radiance(&ray, ray.dir, &alone, rng, stats);
+        total += light.only_lane(lane).scaled(SampledSpectrum::splat(weight));
+    }
+    total
 }
