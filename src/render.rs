@@ -959,7 +959,14 @@ fn render_row<B: PathBeam>(
                 }
             };
             let light: B = if let Camera::Lens(lens) = &scene.camera {
-                lens_sample(lens, integrator, (x as f32 + jx, y as f32 + jy), wavelengths, &mut rng, &mut stats)
+                lens_sample(
+                    lens,
+                    integrator,
+                    (x as f32 + jx, y as f32 + jy),
+                    wavelengths,
+                    &mut rng,
+                    &mut stats,
+                )
             } else {
                 // A lens takes the next two dimensions (3 and 4); the pinhole none.
                 let ray =

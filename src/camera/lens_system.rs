@@ -138,7 +138,8 @@ impl LensCamera {
             system.surfaces[stop].semi_diameter_mm = wanted;
         }
         let object_mm = settings.focus_distance_m * MM_PER_METRE;
-        let thickness = system.focus_thickness_mm(object_mm, LAMBDA_D_NM).map_err(|err| lens_error(err.to_string()))?;
+        let thickness =
+            system.focus_thickness_mm(object_mm, LAMBDA_D_NM).map_err(|err| lens_error(err.to_string()))?;
         if !(thickness > 0.0 && thickness.is_finite()) {
             return Err(lens_error(format!(
                 "{file}: focused at {} m the image lies {thickness:.3} mm from the last vertex: the sensor \
@@ -166,7 +167,9 @@ impl LensCamera {
     /// aspect ratio (the sampler is measured again when the aspect changes).
     pub fn with_resolution(&self, width: u32, height: u32) -> Result<Self, CameraError> {
         let pinhole = self.pinhole.with_resolution(width, height)?;
-        if u64::from(width) * u64::from(self.pinhole.height()) == u64::from(height) * u64::from(self.pinhole.width()) {
+        if u64::from(width) * u64::from(self.pinhole.height())
+            == u64::from(height) * u64::from(self.pinhole.width())
+        {
             return Ok(Self { pinhole, ..self.clone() });
         }
         Ok(Self::with_system(pinhole, self.settings.clone(), self.sampler.tracer.system.clone()))

@@ -268,7 +268,8 @@ impl Builder<'_> {
         }
         let focus_distance_m = match &desc.focus_distance {
             Some(focus) if !(*focus.get_ref() > 0.0 && *focus.get_ref() <= MAX_COORDINATE) => {
-                let message = format!("must lie in (0, {MAX_COORDINATE:e}], got {}", number(*focus.get_ref()));
+                let message =
+                    format!("must lie in (0, {MAX_COORDINATE:e}], got {}", number(*focus.get_ref()));
                 return Err(self.error(focus.span(), "camera.focus_distance", message));
             }
             Some(focus) => f64::from(*focus.get_ref()),

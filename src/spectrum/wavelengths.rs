@@ -247,7 +247,15 @@ impl SampledWavelengths {
         // Lane by lane, so that it is made in a register: a fill of the first `active` lanes
         // was a masked store read back at once by a wide load, which the processor cannot
         // forward (about 3 % of a camera sample's time in a monochromatic render).
-        SampledSpectrum { values: std::array::from_fn(|lane| if lane >= self.first_live && lane < self.active { 1.0 } else { 0.0 }) }
+        SampledSpectrum {
+            values: std::array::from_fn(|lane| {
+                if lane >= self.first_live && lane < self.active {
+                    1.0
+                } else {
+                    0.0
+                }
+            }),
+        }
     }
 }
 

@@ -1,0 +1,220 @@
+//! The lens-system camera in images: the on-axis transmission of the uncoated double Gauss
+//! against Π(1 − R) at normal incidence, the image upright and not mirrored (as the pinhole's),
+//! and bad input refused with one line and exit code 2.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use prisma::camera::Camera;
+use prisma::film::Film;
+use prisma::lens::{read_lens_file, Medium};
+use prisma::render::{render, Job};
+use prisma::scene::Scene;
+
+/// The wavelength of the radiometric renders (nm).
+const LAMBDA_NM: f32 = 550.0;
+/// Threads for each render (the test's budget is two cores).
+const THREADS: usize = 2;
+
+/// A path inside the repository (the scenes name their lens relative to it).
+fn repo(relative: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(relative)
+}
+
+/// `text` parsed as if it were the file tests/lens_camera.toml (so that `../data/lenses/…`
+/// names the shipped lenses).
+fn parse(text: &str) -> Scene {
+    prisma::scene::parse(text, &repo("tests/lens_camera.toml")).expect("the scene parses")
+}
+
+/// `scene` rendered at [`LAMBDA_NM`] with `spp` samples per pixel: its radiance image, row-major.
+fn render_radiance(scene: &Scene, spp: u32) -> Vec<f64> {
+    let mut settings = scene.settings.clone();
+    settings.spp = spp;
+    let job = Job { threads: THREADS, monochromatic_nm: Some(LAMBDA_NM), ..Job::new(settings) };
+    let (film, _): (Film, _) = render(scene, &job).expect("the scene renders");
+    film.xyz().iter().map(|v| f64::from(v.y)).collect()
+}
+
+/// A camera at the origin looking down +z, `camera` its other lines, `body` the rest.
+fn scene_text(background: f32, camera: &str, body: &str) -> String {
+    format!(
+        "background = {background}\n\n[camera]\nposition = [0, 0, 0]\nlook_at = [0, 0, 10]\n{camera}\n\n\
+         [render]\nspp = 1\npolarized = false\n\n{body}"
+    )
+}
+
+/// The double Gauss's camera lines: a `size`² image on a sensor `sensor_mm` high, focused at
+/// infinity, wide open.
+fn dgauss(size: u32, sensor_mm: f32) -> String {
+    format!(
+        "lens = \"../data/lenses/dgauss50.dat\"\nsensor_height_mm = {sensor_mm}\nwidth = {size}\nheight = {size}"
+    )
+}
+
+/// A uniform background of radiance L seen on axis through the uncoated double Gauss reads
+/// L × Π(1 − R) over its 11 surfaces, R = ((n − n′)/(n + n′))² at normal incidence with the
+/// indices of its glasses at 550 nm (the closed form; ≈ 0.59, the Fresnel losses pbrt-v4's
+/// realistic camera leaves out). L is read from the pinhole's render of the same background
+/// (the background's spectrum at 550 nm, whatever its units).
+///
+/// Tolerance: 4 standard errors of the mean of the centre 3 × 3 pixels (each pixel's spread
+/// from the pupil sampling and the rays the exit-pupil bounds let miss), plus 0.5 % for the
+/// rays' obliquity: the centre pixels' rays fill the f/2 cone (up to 14° in air, less in the
+/// glass), where R differs from its normal-incidence value; averaged over the pupil this lowers
+/// the transmission by 0.17 % (0.5889 against 0.5899 at the d line, the lens tools'
+/// measurement), so 0.5 % bounds it. The centre pixels span 0.09 mm of a 1 mm sensor, where
+/// the relative illumination is 1 within 1e-5 (cos⁴ of 0.05 mm at 50 mm).
+#[test]
+fn uniform_background_reads_the_on_axis_fresnel_transmission() {
+    let system = read_lens_file(&repo("data/lenses/dgauss50.dat")).expect("the shipped lens reads");
+    let mut transmission = 1.0;
+    let mut n_before = 1.0;
+    for surface in &system.surfaces {
+        let n_after = match &surface.medium {
+            Medium::Air => 1.0,
+            glass => glass.n_at_nm(f64::from(LAMBDA_NM)),
+        };
+        let r = ((n_before - n_after) / (n_before + n_after)).powi(2);
+        transmission *= 1.0 - r;
+        n_before = n_after;
+    }
+    assert!((0.57..0.61).contains(&transmission), "Π(1 − R) = {transmission}");
+
+    let size = 33;
+    let lens = parse(&scene_text(1.0, &dgauss(size, 1.0), ""));
+    assert!(matches!(lens.camera, Camera::Lens(_)));
+    let pinhole = parse(&scene_text(1.0, &format!("fov_y_deg = 10\nwidth = {size}\nheight = {size}"), ""));
+    let background = render_radiance(&pinhole, 1)[(size * size / 2) as usize];
+    assert!(background > 0.0);
+
+    let image = render_radiance(&lens, 1024);
+    let centre = (size / 2) as usize;
+    let pixels: Vec<f64> = (centre - 1..=centre + 1)
+        .flat_map(|y| (centre - 1..=centre + 1).map(move |x| (x, y)))
+        .map(|(x, y)| image[y * size as usize + x] / background)
+        .collect();
+    let n = pixels.len() as f64;
+    let mean = pixels.iter().sum::<f64>() / n;
+    let variance = pixels.iter().map(|p| (p - mean).powi(2)).sum::<f64>() / (n - 1.0);
+    let standard_error = (variance / n).sqrt();
+    let tolerance = 4.0 * standard_error + 0.005 * transmission;
+    eprintln!(
+        "centre reads {mean:.5} ± {standard_error:.5} of the background; Π(1 − R) at {LAMBDA_NM} nm = \
+         {transmission:.5}"
+    );
+    assert!(
+        (mean - transmission).abs() < tolerance,
+        "centre {mean} vs Π(1 − R) = {transmission} (tolerance {tolerance})"
+    );
+}
+
+/// The centre of brightness of `image` (`size`² pixels): (x, y) in pixels from the top left.
+fn centroid(image: &[f64], size: usize) -> (f64, f64) {
+    let (mut sum, mut sx, mut sy) = (0.0, 0.0, 0.0);
+    for (i, &v) in image.iter().enumerate() {
+        let (x, y) = ((i % size) as f64 + 0.5, (i / size) as f64 + 0.5);
+        sum += v;
+        sx += v * x;
+        sy += v * y;
+    }
+    (sx / sum, sy / sum)
+}
+
+/// A bright square in the top-left of the view (world +x is the image's left for a camera
+/// looking down +z with up +y, as the pinhole shows it) appears top-left through the lens too:
+/// the lens's inverted image is turned upright and not mirrored. Its centre lands where the
+/// pinhole of the same field puts it, within 10 % of the image (the lens's distortion and the
+/// blur of a paraxial field are smaller: the double Gauss's distortion is below 1 % at this
+/// field).
+#[test]
+fn the_image_is_upright_and_not_mirrored() {
+    let size = 48usize;
+    // The square: centre (0.4, 0.3) at depth 5, side 0.3, emitting toward the camera.
+    let body = "[[lights]]\ntype = \"quad\"\ncorner = [0.25, 0.15, 5]\nedge1 = [0.3, 0, 0]\n\
+                edge2 = [0, 0.3, 0]\nradiance = 1\nemit = \"edge2_cross_edge1\"\n";
+    // 24 mm on a 50 mm lens focused at 5 m: a vertical field of about 27.3°.
+    let camera = format!("{}\nfocus_distance = 5", dgauss(size as u32, 24.0));
+    let lens = parse(&scene_text(0.0, &camera, body));
+    let Camera::Lens(lens_camera) = &lens.camera else { panic!("not a lens camera") };
+    let fov = lens_camera.pinhole().ray(0.5 * size as f32, 0.0).dir.angle_between(glam::Vec3::Z).to_degrees();
+    let pinhole =
+        parse(&scene_text(0.0, &format!("fov_y_deg = {}\nwidth = {size}\nheight = {size}", 2.0 * fov), body));
+    let (lens_x, lens_y) = centroid(&render_radiance(&lens, 16), size);
+    let (pin_x, pin_y) = centroid(&render_radiance(&pinhole, 16), size);
+    eprintln!("square's centre: lens ({lens_x:.2}, {lens_y:.2}), pinhole ({pin_x:.2}, {pin_y:.2}) px");
+    let half = size as f64 / 2.0;
+    assert!(pin_x < half && pin_y < half, "the pinhole shows it at ({pin_x}, {pin_y})");
+    assert!(lens_x < half && lens_y < half, "the lens shows it at ({lens_x}, {lens_y})");
+    assert!((lens_x - pin_x).abs() < 0.1 * size as f64 && (lens_y - pin_y).abs() < 0.1 * size as f64);
+}
+
+/// Runs `prisma render` on `scene_text` written as tests' scene.toml beside a copy of the
+/// double Gauss at ../lenses/dgauss50.dat; returns (exit code, stderr, whether an output
+/// appeared).
+fn render_cli(scene_text: &str, extra: &[&str]) -> (i32, String, bool) {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir_all(dir.path().join("scenes")).unwrap();
+    std::fs::create_dir_all(dir.path().join("data/lenses")).unwrap();
+    std::fs::copy(repo("data/lenses/dgauss50.dat"), dir.path().join("data/lenses/dgauss50.dat")).unwrap();
+    let scene = dir.path().join("scenes/scene.toml");
+    std::fs::write(&scene, scene_text).unwrap();
+    let out = dir.path().join("out/image.exr");
+    let output = Command::new(env!("CARGO_BIN_EXE_prisma"))
+        .arg("render")
+        .arg(&scene)
+        .arg("-o")
+        .arg(&out)
+        .arg("--quiet")
+        .args(extra)
+        .output()
+        .unwrap();
+    let produced = dir.path().join("out").exists();
+    (output.status.code().unwrap_or(-1), String::from_utf8_lossy(&output.stderr).into_owned(), produced)
+}
+
+/// A bad lens setting: exit code 2, one line naming the scene file and `needle`, no output.
+fn refused(scene_text: &str, extra: &[&str], needle: &str) {
+    let (code, stderr, produced) = render_cli(scene_text, extra);
+    assert_eq!(code, 2, "{stderr}");
+    assert_eq!(stderr.trim_end().lines().count(), 1, "not one line: {stderr}");
+    assert!(stderr.contains(needle), "{needle:?} not in {stderr}");
+    assert!(!produced, "an output was written");
+}
+
+/// The good scene renders; each fault gets its one-line error.
+#[test]
+fn bad_lens_settings_are_one_line_errors() {
+    // A light and a glass ball: what caustics need (without them the command line's
+    // --caustics is dropped with a warning).
+    let light = "[materials.glass]\ntype = \"dielectric\"\nior = 1.5\n\n[[shapes]]\ntype = \"sphere\"\n\
+                 center = [0, 0, 5]\nradius = 1\nmaterial = \"glass\"\n\n[[lights]]\ntype = \"point\"\n\
+                 position = [0, 5, 0]\nintensity = 10\n";
+    let good = scene_text(0.5, &dgauss(8, 24.0), light);
+    let (code, stderr, produced) = render_cli(&good, &[]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(produced);
+    let with = |from: &str, to: &str| {
+        assert!(good.contains(from));
+        good.replacen(from, to, 1)
+    };
+    // A lens file that is not there: the scene line and the file.
+    refused(&with("dgauss50.dat", "nothing.dat"), &[], "scene.toml:6: camera.lens");
+    refused(&with("dgauss50.dat", "nothing.dat"), &[], "nothing.dat: cannot open");
+    // A lens file with a bad line: its own line named.
+    let (dir, text) = (tempfile::tempdir().unwrap(), "# bad\n29.475 3.76 abc 25.2\n");
+    let bad_lens = dir.path().join("bad.dat");
+    std::fs::write(&bad_lens, text).unwrap();
+    refused(&with("../data/lenses/dgauss50.dat", &bad_lens.display().to_string()), &[], "bad.dat:2");
+    // The field of view given with a lens.
+    refused(&with("sensor_height_mm", "fov_y_deg = 40\nsensor_height_mm"), &[], "camera.fov_y_deg");
+    // No sensor height.
+    refused(&with("sensor_height_mm = 24", ""), &[], "camera.sensor_height_mm");
+    // Opening beyond the stop: dgauss50 is f/2.03 wide open.
+    refused(&with("sensor_height_mm", "f_number = 1.4\nsensor_height_mm"), &[], "semi-diameter");
+    // Caustics, in the scene and on the command line; polarised, on the command line.
+    refused(&with("spp = 1", "spp = 1\ncaustics = true"), &[], "render.caustics");
+    refused(&good, &["--caustics"], "caustics");
+    refused(&good, &["--polarized"], "polarized");
+    refused(&with("polarized = false", "polarized = true"), &[], "render.polarized");
+}
