@@ -115,7 +115,7 @@ impl LensCamera {
                 settings.sensor_height_mm
             )));
         }
-        if !(settings.focus_distance_m > 0.0) {
+        if settings.focus_distance_m.is_nan() || settings.focus_distance_m <= 0.0 {
             return Err(CameraError::FocusDistance(settings.focus_distance_m as f32));
         }
         let mut system = read_lens_file(&settings.lens).map_err(|err| lens_error(err.to_string()))?;
