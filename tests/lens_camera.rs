@@ -250,3 +250,62 @@ fn most_camera_samples_pass_the_lens_in_the_shipped_scene() {
     eprintln!("{passed} of {total} camera samples pass the lens: {share:.3}");
     assert!(share > 0.5, "share {share}");
 }
+
+/// The RMS radius (mm on the sensor) about its centroid of `image` (`size`² pixels of pitch
+/// `pitch_mm`), measured at the pixel centres.
+fn rms_radius_mm(image: &[f64], size: usize, pitch_mm: f64) -> f64 {
+    let (cx, cy) = centroid(image, size);
+    let (mut sum, mut moment) = (0.0, 0.0);
+    for (i, &v) in image.iter().enumerate() {
+        let (x, y) = ((i % size) as f64 + 0.5 - cx, (i / size) as f64 + 0.5 - cy);
+        sum += v;
+        moment += v * (x * x + y * y);
+    }
+    (moment / sum).sqrt() * pitch_mm
+}
+
+/// The singlet's chromatic focal shift in a render: a distant small square (2 m at 10 km, on
+/// axis) through the N-BK7 singlet focused at infinity at the d line. At 486.13 nm (F) the
+/// lens focuses about 1.5 mm short of the sensor, so the image is a blur disc; at the d line
+/// it is sharp but for spherical aberration. Each rendered spot's RMS radius matches the lens
+/// tracer's spot diagram at that wavelength (`prisma::lens::analysis`, checked against
+/// rayoptics in tests/lens_design_code.rs) widened, in quadrature, by the square's geometric
+/// image (side a = 2e-4 × f′, second moment a²/6) and the pixel grid the moments are taken on
+/// (pitch p, p²/6): second moments of independent blurs add. Tolerance 8 %: the Monte Carlo
+/// noise of the second moment (about 5000 hits on the F blur disc, ≈ 2 % in the radius) with
+/// room for the pupil's Fresnel weighting, which the spot diagram leaves out (R changes by
+/// < 1e-3 across an f/8 pupil).
+#[test]
+fn the_singlets_chromatic_focal_shift_shows_in_the_render() {
+    let size = 64usize;
+    let sensor_mm = 0.4;
+    let pitch_mm = sensor_mm / size as f64;
+    let camera = format!(
+        "lens = \"../data/lenses/singlet_nbk7.dat\"\nsensor_height_mm = {sensor_mm}\nwidth = {size}\nheight = {size}"
+    );
+    let body = "[[lights]]\ntype = \"quad\"\ncorner = [-1, -1, 10000]\nedge1 = [2, 0, 0]\n\
+                edge2 = [0, 2, 0]\nradiance = 1\nemit = \"edge2_cross_edge1\"\n";
+    let scene = parse(&scene_text(0.0, &camera, body));
+    let system = read_lens_file(&repo("data/lenses/singlet_nbk7.dat")).expect("the shipped lens reads");
+    let analysis = prisma::lens::analysis::Analysis::new(&system).expect("the singlet analyses");
+    let mut radii = Vec::new();
+    for lambda_nm in [486.13_f32, 587.5618] {
+        let mut settings = scene.settings.clone();
+        settings.spp = 512;
+        let job = Job { threads: THREADS, monochromatic_nm: Some(lambda_nm), ..Job::new(settings) };
+        let (film, _) = render(&scene, &job).expect("the scene renders");
+        let image: Vec<f64> = film.xyz().iter().map(|v| f64::from(v.y)).collect();
+        let measured = rms_radius_mm(&image, size, pitch_mm);
+        let spot = analysis.spot(0.0, f64::from(lambda_nm)).rms_radius_mm;
+        let efl = system.paraxial(f64::from(lambda_nm)).expect("paraxial").efl_mm;
+        let square = 2e-4 * efl;
+        let expected = (spot * spot + square * square / 6.0 + pitch_mm * pitch_mm / 6.0).sqrt();
+        eprintln!(
+            "{lambda_nm} nm: rendered RMS radius {measured:.5} mm, expected {expected:.5} mm (spot diagram \
+             {spot:.5} mm)"
+        );
+        assert!((measured / expected - 1.0).abs() < 0.08, "{lambda_nm} nm: {measured} vs {expected}");
+        radii.push(measured);
+    }
+    assert!(radii[0] > 2.0 * radii[1], "the F spot {} is not larger than the d spot {}", radii[0], radii[1]);
+}
