@@ -188,16 +188,15 @@ pub enum RenderError {
     /// A pixel came out NaN or infinite: radiance overflowed f32.
     #[error(transparent)]
     NonFinite(#[from] NonFinitePixel),
-    /// The camera cannot render with these settings (a lens system with caustics or
-    /// polarisation, [`lens_camera_refusal`]).
+    /// The camera cannot render with these settings (a lens system with caustics,
+    /// [`lens_camera_refusal`]).
     #[error("{0}")]
     Camera(String),
 }
 
 /// Why a lens-system camera cannot render with `settings`, if it cannot, as the setting's name
-/// and the reason: light paths cannot be connected to the camera through glass (`caustics`),
-/// and the lens's Mueller matrices are not applied to Stokes vectors (`polarized`). `None` for
-/// every other camera.
+/// and the reason: light paths cannot be connected to the camera through glass (`caustics`).
+/// `None` for every other camera.
 pub fn lens_camera_refusal(camera: &Camera, settings: &RenderSettings) -> Option<(&'static str, String)> {
     let Camera::Lens(lens) = camera else { return None };
     let file = lens.lens_file().display();
@@ -207,15 +206,6 @@ pub fn lens_camera_refusal(camera: &Camera, settings: &RenderSettings) -> Option
             format!(
                 "light paths cannot be connected to the camera through the lens system {file}; \
                  render without caustics (or with a thin lens)"
-            ),
-        ));
-    }
-    if settings.polarized {
-        return Some((
-            "polarized",
-            format!(
-                "a lens-system camera ({file}) renders unpolarised light only; set polarized = false \
-                 in [render] or pass --unpolarized"
             ),
         ));
     }
@@ -958,22 +948,25 @@ fn render_row<B: PathBeam>(
                     &sampled
                 }
             };
-            let light: B = if let Camera::Lens(lens) = &scene.camera {
-                lens_sample(
+            if let Camera::Lens(lens) = &scene.camera {
+                let film = (x as f32 + jx, y as f32 + jy);
+                return add_lens_sample::<B>(
                     lens,
                     integrator,
-                    (x as f32 + jx, y as f32 + jy),
+                    film,
                     wavelengths,
                     &mut rng,
                     &mut stats,
-                )
-            } else {
-                // A lens takes the next two dimensions (3 and 4); the pinhole none.
-                let ray =
-                    scene.camera.sample_ray(x as f32 + jx, y as f32 + jy, || (rng.uniform(), rng.uniform()));
-                let frame_x = if B::POLARIZED { scene.camera.stokes_x(ray.dir) } else { ray.dir };
-                integrator.radiance(&ray, frame_x, wavelengths, &mut rng, &mut stats)
-            };
+                    sums,
+                    layout,
+                    weight,
+                );
+            }
+            // A lens takes the next two dimensions (3 and 4); the pinhole none.
+            let ray =
+                scene.camera.sample_ray(x as f32 + jx, y as f32 + jy, || (rng.uniform(), rng.uniform()));
+            let frame_x = if B::POLARIZED { scene.camera.stokes_x(ray.dir) } else { ray.dir };
+            let light: B = integrator.radiance(&ray, frame_x, wavelengths, &mut rng, &mut stats);
             add_weighted_sample(sums, &light, wavelengths, layout, weight)
         };
         for pass in block.clone() {
@@ -992,32 +985,50 @@ fn render_row<B: PathBeam>(
     (stats.rays, failed)
 }
 
-/// The light a lens-system camera records for one camera sample at film position `film`
-/// (pixels): the lens bends every wavelength its own way, so each live lane gets its own ray,
-/// traced through the lens at its wavelength with the same film position and pupil numbers
-/// (dimensions 3 and 4, as a thin lens's), and its own integrator call with that lane alone
-/// live ([`SampledWavelengths::lane_alone`]), weighted by the ray's weight
-/// ([`crate::lens::CameraRay::weight`]). A lane whose ray does not pass the lens adds 0.
-/// Unpolarised light only (polarised renders are refused with a lens system).
-fn lens_sample<B: PathBeam>(
+/// Adds to `sums` (weighted by `weight`, as [`add_weighted_sample`]) what a lens-system camera
+/// records for one camera sample at film position `film` (pixels): the lens bends every
+/// wavelength its own way, so each live lane gets its own ray, traced through the lens at its
+/// wavelength with the same film position and pupil numbers (dimensions 3 and 4, as a thin
+/// lens's), and its own integrator call with that lane alone live
+/// ([`SampledWavelengths::lane_alone`]). The light it brings back is weighted by the ray's
+/// [`crate::lens::CameraRay::weight`] (unpolarised), or goes through the lens's Mueller matrix
+/// times the sensor weight (polarised). A lane whose ray does not pass the lens adds 0.
+#[allow(clippy::too_many_arguments)] // the sample's place and the render's state, passed flat
+fn add_lens_sample<B: PathBeam>(
     lens: &crate::camera::LensCamera,
     integrator: &CameraIntegrator,
     film: (f32, f32),
     wavelengths: &SampledWavelengths,
     rng: &mut PixelRng,
     stats: &mut TraceStats,
-) -> B {
-    debug_assert!(!B::POLARIZED, "a lens-system camera renders unpolarised light");
+    sums: &mut [FixedSum],
+    layout: &FilmLayout,
+    weight: f32,
+) -> bool {
     let u_pupil = (rng.uniform(), rng.uniform());
-    let mut total = B::zero();
+    let mut stokes = [SampledSpectrum::zero(); 4];
     for lane in 0..wavelengths.active() {
         let traced = lens.sample_ray(film.0, film.1, u_pupil, wavelengths.lambda_nm(lane), &mut || {
             f64::from(rng.uniform())
         });
-        let Some((ray, weight)) = traced else { continue };
+        let Some((ray, camera_ray)) = traced else { continue };
+        let frame_x = if B::POLARIZED { lens.pinhole().stokes_x(ray.dir) } else { ray.dir };
         let alone = wavelengths.lane_alone(lane);
-        let light: B = integrator.radiance(&ray, ray.dir, &alone, rng, stats);
-        total += light.only_lane(lane).scaled(SampledSpectrum::splat(weight));
+        let light: B = integrator.radiance(&ray, frame_x, &alone, rng, stats);
+        let components = light.components();
+        if B::POLARIZED {
+            let arriving: [f64; 4] = std::array::from_fn(|k| f64::from(components[k][lane]));
+            for (row, out) in stokes.iter_mut().enumerate() {
+                let value: f64 = (0..4).map(|k| camera_ray.sample.mueller[row][k] * arriving[k]).sum();
+                out[lane] = (camera_ray.sensor_weight * value) as f32;
+            }
+        } else {
+            stokes[0][lane] = (camera_ray.weight * f64::from(components[0][lane])) as f32;
+        }
     }
-    total
+    if B::POLARIZED {
+        add_weighted_sample(sums, &Stokes { s: stokes }, wavelengths, layout, weight)
+    } else {
+        add_weighted_sample(sums, &stokes[0], wavelengths, layout, weight)
+    }
 }

@@ -212,11 +212,12 @@ fn bad_lens_settings_are_one_line_errors() {
     refused(&with("sensor_height_mm = 24", ""), &[], "camera.sensor_height_mm");
     // Opening beyond the stop: dgauss50 is f/2.03 wide open.
     refused(&with("sensor_height_mm", "f_number = 1.4\nsensor_height_mm"), &[], "semi-diameter");
-    // Caustics, in the scene and on the command line; polarised, on the command line.
+    // Caustics, in the scene and on the command line.
     refused(&with("spp = 1", "spp = 1\ncaustics = true"), &[], "render.caustics");
     refused(&good, &["--caustics"], "caustics");
-    refused(&good, &["--polarized"], "polarized");
-    refused(&with("polarized = false", "polarized = true"), &[], "render.polarized");
+    // Polarised renders work through the lens.
+    let (code, stderr, _) = render_cli(&good, &["--polarized"]);
+    assert_eq!(code, 0, "{stderr}");
 }
 
 /// The share of camera samples that pass the lens in the shipped scene
@@ -308,4 +309,56 @@ fn the_singlets_chromatic_focal_shift_shows_in_the_render() {
         radii.push(measured);
     }
     assert!(radii[0] > 2.0 * radii[1], "the F spot {} is not larger than the d spot {}", radii[0], radii[1]);
+}
+
+/// The mean and standard error of `values`.
+fn mean_and_error(values: &[f64]) -> (f64, f64) {
+    let n = values.len() as f64;
+    let mean = values.iter().sum::<f64>() / n;
+    let variance = values.iter().map(|p| (p - mean).powi(2)).sum::<f64>() / (n - 1.0);
+    (mean, (variance / n).sqrt())
+}
+
+/// Polarised, through the same lens: unpolarised light of radiance L on axis reads S0 =
+/// L × Π(1 − R) as the unpolarised render does (the Mueller matrix's first entry is the
+/// transmission; same tolerance as there), and stays unpolarised at the centre: each ray
+/// through the pupil's edge is partly polarised by the tilted surfaces, but the pupil is
+/// symmetric about the axis, so S1, S2 and S3 average to zero there (tolerance: 4 standard
+/// errors of the centre pixels' mean, plus 1e-3 of S0 for the centre pixels' field of 0.05°,
+/// where the lens's polarisation is of the order of the field angle squared).
+#[test]
+fn polarised_through_the_lens_the_centre_reads_the_transmission_unpolarised() {
+    let system = read_lens_file(&repo("data/lenses/dgauss50.dat")).expect("the shipped lens reads");
+    let mut transmission = 1.0;
+    let mut n_before = 1.0;
+    for surface in &system.surfaces {
+        let n_after = surface.medium.n_at_nm(f64::from(LAMBDA_NM));
+        transmission *= 1.0 - ((n_before - n_after) / (n_before + n_after)).powi(2);
+        n_before = n_after;
+    }
+    let size = 33usize;
+    let lens = parse(&scene_text(1.0, &dgauss(size as u32, 1.0), ""));
+    let pinhole = parse(&scene_text(1.0, &format!("fov_y_deg = 10\nwidth = {size}\nheight = {size}"), ""));
+    let background = render_radiance(&pinhole, 1)[size * size / 2];
+    let mut settings = lens.settings.clone();
+    settings.spp = 1024;
+    settings.polarized = true;
+    let job = Job { threads: THREADS, monochromatic_nm: Some(LAMBDA_NM), ..Job::new(settings) };
+    let (film, _) = render(&lens, &job).expect("the scene renders");
+    let centre = size / 2;
+    let at = |image: &[glam::Vec3]| -> Vec<f64> {
+        (centre - 1..=centre + 1)
+            .flat_map(|y| (centre - 1..=centre + 1).map(move |x| y * size + x))
+            .map(|i| f64::from(image[i].y) / background)
+            .collect()
+    };
+    let (s0, s0_error) = mean_and_error(&at(film.xyz()));
+    eprintln!("polarised: S0 {s0:.5} ± {s0_error:.5} of the background; Π(1 − R) = {transmission:.5}");
+    assert!((s0 - transmission).abs() < 4.0 * s0_error + 0.005 * transmission, "S0 {s0} vs {transmission}");
+    for k in 1..4 {
+        let component = film.stokes_xyz(k).expect("a polarised film has S1–S3");
+        let (mean, error) = mean_and_error(&at(&component));
+        eprintln!("S{k}/L = {mean:.2e} ± {error:.1e}");
+        assert!(mean.abs() < 4.0 * error + 1e-3 * s0, "S{k} = {mean} ± {error}");
+    }
 }

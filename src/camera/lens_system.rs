@@ -39,10 +39,13 @@
 //! every surface; vignetting and cos⁴ falloff elsewhere). A ray that misses the lens
 //! contributes 0.
 //!
+//! **Polarisation.** In a polarised render the Stokes vector arriving along the ray goes
+//! through the lens's Mueller matrix (every surface's exact s/p Fresnel transmission, the
+//! frames turned between surfaces) into the sensor's frame.
+//!
 //! **Refused with it** (one-line errors): `fov_y_deg` (the lens and sensor set the field),
-//! `aperture_radius` (a thin lens), caustics (light paths cannot be connected to the camera
-//! through glass), and polarised rendering (the lens's Mueller matrix is not yet applied to
-//! the Stokes vectors: render with `polarized = false` or `--unpolarized`).
+//! `aperture_radius` (a thin lens), and caustics (light paths cannot be connected to the
+//! camera through glass).
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -51,7 +54,7 @@ use glam::{DVec3, Vec3};
 
 use super::{CameraError, Pinhole};
 use crate::geometry::Ray;
-use crate::lens::{read_lens_file, LensSystem, SensorSampler, TraceOptions, LAMBDA_D_NM};
+use crate::lens::{read_lens_file, CameraRay, LensSystem, SensorSampler, TraceOptions, LAMBDA_D_NM};
 
 /// Millimetres per scene unit (metre).
 const MM_PER_METRE: f64 = 1000.0;
@@ -205,8 +208,13 @@ impl LensCamera {
 
     /// A camera ray from film position (`x`, `y`) in pixels through the lens at `lambda_nm`,
     /// aimed by the uniform pair `u_pupil`, with `next_uniform` for ghost branches; `None` when
-    /// it does not pass the lens (the sample contributes 0). The weight multiplies the
-    /// radiance the ray brings back ([`crate::lens::CameraRay::weight`]).
+    /// it does not pass the lens (the sample contributes 0). The ray is in scene space; the
+    /// [`CameraRay`] gives its weights: [`CameraRay::weight`] multiplies the radiance of
+    /// unpolarised light, `sensor_weight` × `sample.mueller` the Stokes vector arriving along
+    /// the ray in the frame x = normalize(dir × up) ([`super::Camera::stokes_x`]; the lens's
+    /// scene-side frame, lens +y being the camera's up), giving it in the sensor's frame
+    /// (x = the image's right for the central ray, as the pinhole's; the 180° turn of the image
+    /// leaves Stokes vectors as they are).
     pub fn sample_ray(
         &self,
         x: f32,
@@ -214,21 +222,20 @@ impl LensCamera {
         u_pupil: (f32, f32),
         lambda_nm: f32,
         next_uniform: &mut dyn FnMut() -> f64,
-    ) -> Option<(Ray, f32)> {
+    ) -> Option<(Ray, CameraRay)> {
         let options = TraceOptions {
             max_ghost_reflections: self.settings.max_ghost_reflections,
             ..TraceOptions::new(f64::from(lambda_nm))
         };
         let u = [f64::from(u_pupil.0), f64::from(u_pupil.1)];
         let camera_ray = self.sampler.sample(self.sensor_point_mm(x, y), u, &options, next_uniform)?;
-        let weight = camera_ray.weight as f32;
-        if !(weight > 0.0 && weight.is_finite()) {
+        if !(camera_ray.weight > 0.0 && (camera_ray.weight as f32).is_finite()) {
             return None;
         }
         let origin = self.to_world(camera_ray.sample.origin_mm / MM_PER_METRE);
         let dir = self.to_world(camera_ray.sample.dir);
         let ray = Ray::new(self.pinhole.position() + origin, dir.normalize());
-        Some((ray, weight))
+        Some((ray, camera_ray))
     }
 
     /// A vector in lens coordinates, in scene space: x → right, y → up, z → −forward.
