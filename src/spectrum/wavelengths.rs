@@ -376,6 +376,23 @@ mod tests {
         assert!(mask.values[4..].iter().all(|&v| v == 0.0));
     }
 
+    /// `lane_alone` keeps the wavelengths and densities and makes one lane live.
+    #[test]
+    fn lane_alone_keeps_one_lane_live() {
+        let wavelengths = SampledWavelengths::sample_visible(0.37, 4);
+        for lane in 0..4 {
+            let alone = wavelengths.lane_alone(lane);
+            let mask = alone.active_mask();
+            for i in 0..N_LAMBDA {
+                assert_eq!(mask.values[i], if i == lane { 1.0 } else { 0.0 });
+                assert_eq!(alone.lambda_nm(i), wavelengths.lambda_nm(i));
+            }
+            assert_eq!(alone.pdf_per_nm(lane), wavelengths.pdf_per_nm(lane));
+        }
+        // The whole sample's mask is unchanged by the field.
+        assert_eq!(wavelengths.active_mask().values[..5], [1.0, 1.0, 1.0, 1.0, 0.0]);
+    }
+
     /// A histogram of 400 000 hero wavelengths (seeded) over 47 bins of 10 nm matches the
     /// analytic density integrated over each bin: every bin's count is within 5 binomial
     /// standard deviations.
