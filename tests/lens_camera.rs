@@ -383,3 +383,22 @@ fn a_lens_render_is_the_same_bits_on_any_thread_count() {
         .all(|(a, b)| a.to_array().map(f32::to_bits) == b.to_array().map(f32::to_bits)));
     assert!(films[0].iter().any(|p| p.y > 0.0));
 }
+
+/// The scene's digest (what a merge of parts compares) covers the lens file: a prescription
+/// edited between two parts changes the image.
+#[test]
+fn the_scene_digest_covers_the_lens_file() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir_all(dir.path().join("scenes")).unwrap();
+    std::fs::create_dir_all(dir.path().join("data/lenses")).unwrap();
+    let lens = dir.path().join("data/lenses/dgauss50.dat");
+    std::fs::copy(repo("data/lenses/dgauss50.dat"), &lens).unwrap();
+    let scene_path = dir.path().join("scenes/scene.toml");
+    std::fs::write(&scene_path, scene_text(0.5, &dgauss(8, 24.0), "")).unwrap();
+    let before = prisma::scene::load(&scene_path).expect("loads").digest;
+    let mut text = std::fs::read_to_string(&lens).unwrap();
+    text.push_str("# edited\n");
+    std::fs::write(&lens, text).unwrap();
+    let after = prisma::scene::load(&scene_path).expect("loads").digest;
+    assert_ne!(before, after);
+}
