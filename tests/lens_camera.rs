@@ -265,32 +265,31 @@ fn rms_radius_mm(image: &[f64], size: usize, pitch_mm: f64) -> f64 {
     (moment / sum).sqrt() * pitch_mm
 }
 
-/// The singlet's chromatic focal shift in a render: a distant small square (2 m at 10 km, on
-/// axis) through the N-BK7 singlet focused at infinity at the d line. At 486.13 nm (F) the
-/// lens focuses about 1.5 mm short of the sensor, so the image is a blur disc; at the d line
-/// it is sharp but for spherical aberration. Each rendered spot's RMS radius matches the lens
-/// tracer's spot diagram at that wavelength (`prisma::lens::analysis`, checked against
-/// rayoptics in tests/lens_design_code.rs) widened, in quadrature, by the square's geometric
-/// image (side a = 2e-4 × f′, second moment a²/6) and the pixel grid the moments are taken on
-/// (pitch p, p²/6): second moments of independent blurs add. Tolerance 8 %: the Monte Carlo
-/// noise of the second moment (about 5000 hits on the F blur disc, ≈ 2 % in the radius) with
-/// room for the pupil's Fresnel weighting, which the spot diagram leaves out (R changes by
-/// < 1e-3 across an f/8 pupil).
-#[test]
-fn the_singlets_chromatic_focal_shift_shows_in_the_render() {
+/// The RMS radii (mm) of the singlet's image of a distant small square (2 m at 10 km, on
+/// axis) rendered at each of `wavelengths_nm` (`focus` the `focus_distance` line, or none),
+/// each with the radius expected for it: the lens tracer's spot diagram on the camera's sensor
+/// plane (`prisma::lens::analysis`, checked against rayoptics in tests/lens_design_code.rs)
+/// widened, in quadrature, by the square's geometric image (side a = 2e-4 × f′, second moment
+/// a²/6) and the pixel grid the moments are taken on (pitch p, p²/6): second moments of
+/// independent blurs add. The square at 10 km rather than infinity moves its image by
+/// f′²/10 km = 1e-3 mm, a blur of 6e-5 mm at f/8: left out.
+fn singlet_spots(focus: &str, wavelengths_nm: &[f32]) -> Vec<(f64, f64)> {
     let size = 64usize;
     let sensor_mm = 0.4;
     let pitch_mm = sensor_mm / size as f64;
     let camera = format!(
-        "lens = \"../data/lenses/singlet_nbk7.dat\"\nsensor_height_mm = {sensor_mm}\nwidth = {size}\nheight = {size}"
+        "lens = \"../data/lenses/singlet_nbk7.dat\"\nsensor_height_mm = {sensor_mm}\nwidth = {size}\n\
+         height = {size}\n{focus}"
     );
     let body = "[[lights]]\ntype = \"quad\"\ncorner = [-1, -1, 10000]\nedge1 = [2, 0, 0]\n\
                 edge2 = [0, 2, 0]\nradiance = 1\nemit = \"edge2_cross_edge1\"\n";
     let scene = parse(&scene_text(0.0, &camera, body));
-    let system = read_lens_file(&repo("data/lenses/singlet_nbk7.dat")).expect("the shipped lens reads");
+    let Camera::Lens(lens) = &scene.camera else { panic!("not a lens camera") };
+    // The lens as the camera traces it: focused by moving its sensor.
+    let system = lens.sampler().tracer.system.clone();
     let analysis = prisma::lens::analysis::Analysis::new(&system).expect("the singlet analyses");
-    let mut radii = Vec::new();
-    for lambda_nm in [486.13_f32, 587.5618] {
+    let mut out = Vec::new();
+    for &lambda_nm in wavelengths_nm {
         let mut settings = scene.settings.clone();
         settings.spp = 512;
         let job = Job { threads: THREADS, monochromatic_nm: Some(lambda_nm), ..Job::new(settings) };
@@ -302,13 +301,67 @@ fn the_singlets_chromatic_focal_shift_shows_in_the_render() {
         let square = 2e-4 * efl;
         let expected = (spot * spot + square * square / 6.0 + pitch_mm * pitch_mm / 6.0).sqrt();
         eprintln!(
-            "{lambda_nm} nm: rendered RMS radius {measured:.5} mm, expected {expected:.5} mm (spot diagram \
-             {spot:.5} mm)"
+            "{lambda_nm} nm ({focus:?}): rendered RMS radius {measured:.5} mm, expected {expected:.5} mm \
+             (spot diagram {spot:.5} mm)"
         );
-        assert!((measured / expected - 1.0).abs() < 0.08, "{lambda_nm} nm: {measured} vs {expected}");
-        radii.push(measured);
+        out.push((measured, expected));
     }
-    assert!(radii[0] > 2.0 * radii[1], "the F spot {} is not larger than the d spot {}", radii[0], radii[1]);
+    out
+}
+
+/// The singlet's chromatic focal shift in a render, focused at infinity at the d line: at
+/// 486.13 nm (F) the lens focuses about 1.5 mm short of the sensor, so the image is a blur
+/// disc; at the d line it is sharp but for spherical aberration. Each rendered spot's RMS
+/// radius matches [`singlet_spots`]'s expectation within 8 %: the Monte Carlo noise of the
+/// second moment (about 5000 hits on the F blur disc, ≈ 2 % in the radius) with room for the
+/// pupil's Fresnel weighting, which the spot diagram leaves out (R changes by < 1e-3 across an
+/// f/8 pupil).
+#[test]
+fn the_singlets_chromatic_focal_shift_shows_in_the_render() {
+    let spots = singlet_spots("", &[486.13, 587.5618]);
+    for &(measured, expected) in &spots {
+        assert!((measured / expected - 1.0).abs() < 0.08, "{measured} vs {expected}");
+    }
+    assert!(
+        spots[0].0 > 2.0 * spots[1].0,
+        "the F spot {:?} is not larger than the d spot {:?}",
+        spots[0],
+        spots[1]
+    );
+}
+
+/// The sharpest sensor plane per wavelength: with the sensor moved (by a finite
+/// `focus_distance` at the d line) to the C line's focus for an object at infinity, BFL_d +
+/// `chromatic_focal_shift_mm(656.27, ∞)`, the image is sharpest at 656.27 nm and blurred at the
+/// d line, each as the spot diagram on that plane says (tolerance as above). The focus distance
+/// is found by bisection on [`LensSystem::focus_thickness_mm`] (the sensor recedes
+/// monotonically as the object approaches) to 1e-9 mm of the target plane.
+#[test]
+fn the_c_line_is_sharpest_on_its_own_focal_plane() {
+    let system = read_lens_file(&repo("data/lenses/singlet_nbk7.dat")).expect("the shipped lens reads");
+    let d_nm = prisma::lens::LAMBDA_D_NM;
+    let shift = system.chromatic_focal_shift_mm(656.27, f64::INFINITY).expect("shift");
+    assert!(shift > 0.1, "the C focus lies {shift} mm behind the d focus");
+    let target = system.focus_thickness_mm(f64::INFINITY, d_nm).expect("focus") + shift;
+    // Bisect the object distance (mm) whose d-line image lies on the target plane.
+    let (mut near, mut far) = (200.0_f64, 1e9_f64);
+    while far - near > 1e-6 * near {
+        let middle = (near * far).sqrt();
+        if system.focus_thickness_mm(middle, d_nm).expect("focus") > target {
+            near = middle;
+        } else {
+            far = middle;
+        }
+    }
+    let plane = system.focus_thickness_mm(near, d_nm).expect("focus");
+    assert!((plane - target).abs() < 1e-3, "{plane} vs {target}");
+    let spots = singlet_spots(&format!("focus_distance = {}", near / 1000.0), &[656.27, 587.5618]);
+    for &(measured, expected) in &spots {
+        assert!((measured / expected - 1.0).abs() < 0.08, "{measured} vs {expected}");
+    }
+    // Measured 0.52: the C spot is limited by spherical aberration (0.020 mm), the d one adds
+    // the defocus of the shift.
+    assert!(spots[0].0 < 0.7 * spots[1].0, "the C spot {:?} is not the sharper: d {:?}", spots[0], spots[1]);
 }
 
 /// The mean and standard error of `values`.
