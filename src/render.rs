@@ -40,6 +40,7 @@ use std::time::{Duration, Instant};
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 
+use crate::camera::Camera;
 use crate::edges::{self, EdgeMap};
 use crate::film::{add_weighted_sample, Film, FilmLayout, NonFinitePixel, SpectralBands, Splats, WindowSums};
 use crate::fixed::FixedSum;
@@ -187,6 +188,28 @@ pub enum RenderError {
     /// A pixel came out NaN or infinite: radiance overflowed f32.
     #[error(transparent)]
     NonFinite(#[from] NonFinitePixel),
+    /// The camera cannot render with these settings (a lens system with caustics,
+    /// [`lens_camera_refusal`]).
+    #[error("{0}")]
+    Camera(String),
+}
+
+/// Why a lens-system camera cannot render with `settings`, if it cannot, as the setting's name
+/// and the reason: light paths cannot be connected to the camera through glass (`caustics`).
+/// `None` for every other camera.
+pub fn lens_camera_refusal(camera: &Camera, settings: &RenderSettings) -> Option<(&'static str, String)> {
+    let Camera::Lens(lens) = camera else { return None };
+    let file = lens.lens_file().display();
+    if settings.caustics {
+        return Some((
+            "caustics",
+            format!(
+                "light paths cannot be connected to the camera through the lens system {file}; \
+                 render without caustics (or with a thin lens)"
+            ),
+        ));
+    }
+    None
 }
 
 /// Bytes of memory a render of `width`×`height` pixels of `layout` on `threads` threads needs,
@@ -248,6 +271,9 @@ pub fn render(scene: &Scene, job: &Job) -> Result<(Film, RenderStats), RenderErr
 /// Errors before any work when the sums cannot fit in memory, and when a sample's value cannot
 /// be summed (not finite, or beyond [`FixedSum`]'s range), naming the first such pixel.
 pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
+    if let Some((setting, message)) = lens_camera_refusal(&scene.camera, &job.settings) {
+        return Err(RenderError::Camera(format!("{setting}: {message}")));
+    }
     let (width, height) = (scene.camera.width(), scene.camera.height());
     let window = job.window.unwrap_or(PixelWindow::full(width, height));
     let samples = job.sample_set();
@@ -922,6 +948,20 @@ fn render_row<B: PathBeam>(
                     &sampled
                 }
             };
+            if let Camera::Lens(lens) = &scene.camera {
+                let film = (x as f32 + jx, y as f32 + jy);
+                return add_lens_sample::<B>(
+                    lens,
+                    integrator,
+                    film,
+                    wavelengths,
+                    &mut rng,
+                    &mut stats,
+                    sums,
+                    layout,
+                    weight,
+                );
+            }
             // A lens takes the next two dimensions (3 and 4); the pinhole none.
             let ray =
                 scene.camera.sample_ray(x as f32 + jx, y as f32 + jy, || (rng.uniform(), rng.uniform()));
@@ -943,4 +983,52 @@ fn render_row<B: PathBeam>(
         }
     }
     (stats.rays, failed)
+}
+
+/// Adds to `sums` (weighted by `weight`, as [`add_weighted_sample`]) what a lens-system camera
+/// records for one camera sample at film position `film` (pixels): the lens bends every
+/// wavelength its own way, so each live lane gets its own ray, traced through the lens at its
+/// wavelength with the same film position and pupil numbers (dimensions 3 and 4, as a thin
+/// lens's), and its own integrator call with that lane alone live
+/// ([`SampledWavelengths::lane_alone`]). The light it brings back is weighted by the ray's
+/// [`crate::lens::CameraRay::weight`] (unpolarised), or goes through the lens's Mueller matrix
+/// times the sensor weight (polarised). A lane whose ray does not pass the lens adds 0.
+#[allow(clippy::too_many_arguments)] // the sample's place and the render's state, passed flat
+fn add_lens_sample<B: PathBeam>(
+    lens: &crate::camera::LensCamera,
+    integrator: &CameraIntegrator,
+    film: (f32, f32),
+    wavelengths: &SampledWavelengths,
+    rng: &mut PixelRng,
+    stats: &mut TraceStats,
+    sums: &mut [FixedSum],
+    layout: &FilmLayout,
+    weight: f32,
+) -> bool {
+    let u_pupil = (rng.uniform(), rng.uniform());
+    let mut stokes = [SampledSpectrum::zero(); 4];
+    for lane in 0..wavelengths.active() {
+        let traced = lens.sample_ray(film.0, film.1, u_pupil, wavelengths.lambda_nm(lane), &mut || {
+            f64::from(rng.uniform())
+        });
+        let Some((ray, camera_ray)) = traced else { continue };
+        let frame_x = if B::POLARIZED { lens.pinhole().stokes_x(ray.dir) } else { ray.dir };
+        let alone = wavelengths.lane_alone(lane);
+        let light: B = integrator.radiance(&ray, frame_x, &alone, rng, stats);
+        let components = light.components();
+        if B::POLARIZED {
+            let arriving: [f64; 4] = std::array::from_fn(|k| f64::from(components[k][lane]));
+            for (row, out) in stokes.iter_mut().enumerate() {
+                let value: f64 = (0..4).map(|k| camera_ray.sample.mueller[row][k] * arriving[k]).sum();
+                out[lane] = (camera_ray.sensor_weight * value) as f32;
+            }
+        } else {
+            stokes[0][lane] = (camera_ray.weight * f64::from(components[0][lane])) as f32;
+        }
+    }
+    if B::POLARIZED {
+        add_weighted_sample(sums, &Stokes { s: stokes }, wavelengths, layout, weight)
+    } else {
+        add_weighted_sample(sums, &stokes[0], wavelengths, layout, weight)
+    }
 }

@@ -3,6 +3,8 @@
 //!
 //! - [`Pinhole`]: every ray from one point (`[camera]` without `aperture_radius`);
 //! - [`ThinLens`]: an ideal thin lens, for depth of field (`aperture_radius`, `focus_distance`).
+//! - [`LensCamera`]: a lens system of real glass traced per wavelength (`lens`,
+//!   `sensor_height_mm`; see [`lens_system`]).
 //!
 //! Both share the pinhole's conventions (Mitsuba 3's `look_at`, pixel (0, 0) top-left, a
 //! vertical field of view) and the Stokes frame [`Camera::stokes_x`]. A camera sample draws the
@@ -21,27 +23,30 @@
 //! focus_distance = 6      # with aperture_radius: the plane of focus's depth (scene units)
 //! ```
 
+pub mod lens_system;
 mod pinhole;
 mod thin_lens;
 
 use glam::Vec3;
 
+pub use lens_system::{LensCamera, LensSettings};
 pub use pinhole::Pinhole;
 pub use thin_lens::ThinLens;
 
 use crate::geometry::Ray;
 
 /// A camera: one of a closed set of kinds.
-///
-/// The next kind is a lens system (a prescription of real glass, [`crate::lens`]): a third
-/// variant whose `sample_ray` traces the lens from a film point and whose `project` is `None`
-/// (light paths cannot be connected through glass), refused with caustics at scene load.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Camera {
     /// Every ray from one point.
     Pinhole(Pinhole),
     /// An ideal thin lens: depth of field.
     ThinLens(ThinLens),
+    /// A lens system of real glass, traced per wavelength: the renderer draws its rays with
+    /// [`LensCamera::sample_ray`] (one per wavelength lane); [`Camera::sample_ray`] gives its
+    /// chief-ray approximation and [`Camera::project`] `None` (light paths cannot be connected
+    /// through glass; caustics are refused with it).
+    Lens(LensCamera),
 }
 
 /// A point seen by the camera, as [`Camera::project`] finds it.
@@ -82,6 +87,9 @@ pub enum CameraError {
     /// A thin lens's focus distance is not positive and finite.
     #[error("focus_distance must be positive and finite, got {0}")]
     FocusDistance(f32),
+    /// A lens system that cannot be used as set (its file, focus, f-number, sensor).
+    #[error("{0}")]
+    Lens(String),
 }
 
 impl Camera {
@@ -90,6 +98,7 @@ impl Camera {
         Ok(match self {
             Camera::Pinhole(pinhole) => Camera::Pinhole(pinhole.with_resolution(width, height)?),
             Camera::ThinLens(lens) => Camera::ThinLens(lens.with_resolution(width, height)?),
+            Camera::Lens(lens) => Camera::Lens(lens.with_resolution(width, height)?),
         })
     }
 
@@ -98,6 +107,7 @@ impl Camera {
         match self {
             Camera::Pinhole(pinhole) => pinhole,
             Camera::ThinLens(lens) => lens.pinhole(),
+            Camera::Lens(lens) => lens.pinhole(),
         }
     }
 
@@ -128,6 +138,9 @@ impl Camera {
         match self {
             Camera::Pinhole(pinhole) => pinhole.ray(x, y),
             Camera::ThinLens(lens) => lens.ray(x, y, lens_sample()),
+            // The renderer traces the lens per lane ([`LensCamera::sample_ray`]); this is the
+            // chief ray's paraxial approximation.
+            Camera::Lens(lens) => lens.pinhole().ray(x, y),
         }
     }
 
@@ -140,6 +153,7 @@ impl Camera {
         match self {
             Camera::Pinhole(pinhole) => pinhole.project(point),
             Camera::ThinLens(lens) => lens.project(point, lens_sample()),
+            Camera::Lens(_) => None,
         }
     }
 

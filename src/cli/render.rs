@@ -588,7 +588,7 @@ fn render_error(error: RenderError, scene: &Path) -> CliError {
     match error {
         RenderError::ThreadPool { .. } => CliError::Failed(error.into()),
         // Too large for this machine, or magnitudes that overflow: the input must change.
-        RenderError::TooLarge(_) | RenderError::NonFinite(_) => {
+        RenderError::TooLarge(_) | RenderError::NonFinite(_) | RenderError::Camera(_) => {
             CliError::Input(anyhow::Error::from(error).context(scene.display().to_string()))
         }
     }

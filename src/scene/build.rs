@@ -16,7 +16,7 @@ use super::desc::{
 use super::error::{line_column, one_line, shorten};
 use super::typed::Typed;
 use super::{IntegratorKind, RenderSettings, Scene, SceneError, Surface};
-use crate::camera::{Camera, Pinhole, ThinLens};
+use crate::camera::{Camera, LensCamera, LensSettings, Pinhole, ThinLens};
 use crate::geometry::{Geometry, Mesh, Plane, Quad, Shape, Sphere};
 use crate::light::{BeamLight, Light, PointLight, QuadLight, SpotLight};
 use crate::material::{
@@ -98,6 +98,10 @@ impl Builder<'_> {
             Some(render) => self.settings(render)?,
             None => RenderSettings::default(),
         };
+        if let Some((setting, message)) = crate::render::lens_camera_refusal(&camera, &settings) {
+            let at = desc.render.as_ref().map_or(desc.camera.span(), Spanned::span);
+            return Err(self.error(at, format!("render.{setting}"), message));
+        }
         let background = match &desc.background {
             Some(spectrum) => {
                 self.spectrum(spectrum.get_ref(), Role::Emission, spectrum.span(), "background")?
@@ -187,7 +191,22 @@ impl Builder<'_> {
         let up = self.point(desc.up, span.clone(), "camera.up")?;
         self.resolution(desc.width, span.clone(), "camera.width")?;
         self.resolution(desc.height, span.clone(), "camera.height")?;
-        let pinhole = Pinhole::look_at(position, look_at, up, desc.fov_y_deg, desc.width, desc.height)
+        if let Some(lens) = &desc.lens {
+            return self.lens_camera(desc, lens, span, (position, look_at, up));
+        }
+        for (field, given) in [
+            ("camera.sensor_height_mm", desc.sensor_height_mm.as_ref().map(Spanned::span)),
+            ("camera.f_number", desc.f_number.as_ref().map(Spanned::span)),
+            ("camera.lens_ghosts", desc.lens_ghosts.as_ref().map(Spanned::span)),
+        ] {
+            if let Some(at) = given {
+                return Err(self.error(at, field, "needs a lens system (camera.lens)"));
+            }
+        }
+        let Some(fov_y_deg) = desc.fov_y_deg.as_ref().map(|v| *v.get_ref()) else {
+            return Err(self.error(span, "camera.fov_y_deg", "is required (or a lens system: camera.lens)"));
+        };
+        let pinhole = Pinhole::look_at(position, look_at, up, fov_y_deg, desc.width, desc.height)
             .map_err(|err| self.error(span.clone(), "camera", err.to_string()))?;
         // Each value's own line in errors.
         let value = |field: &Option<Spanned<f32>>| field.as_ref().map(|v| (*v.get_ref(), v.span()));
@@ -220,6 +239,62 @@ impl Builder<'_> {
                 .map(Camera::ThinLens)
                 .map_err(|err| self.error(span, "camera", err.to_string())),
         }
+    }
+
+    /// A lens-system camera ([`LensCamera`]): `lens` relative to the scene file's folder,
+    /// `sensor_height_mm` required, `focus_distance` in scene units (metres) or infinity,
+    /// `fov_y_deg` and `aperture_radius` refused.
+    fn lens_camera(
+        &self,
+        desc: &CameraDesc,
+        lens: &Spanned<String>,
+        span: std::ops::Range<usize>,
+        (position, look_at, up): (glam::Vec3, glam::Vec3, glam::Vec3),
+    ) -> Result<Camera, SceneError> {
+        if let Some(fov) = &desc.fov_y_deg {
+            let message = "is not allowed with a lens system: the lens and sensor_height_mm set the field";
+            return Err(self.error(fov.span(), "camera.fov_y_deg", message));
+        }
+        if let Some(radius) = &desc.aperture_radius {
+            let message = "is not allowed with a lens system (a thin lens); stop down with f_number";
+            return Err(self.error(radius.span(), "camera.aperture_radius", message));
+        }
+        let Some(sensor) = &desc.sensor_height_mm else {
+            return Err(self.error(span, "camera.sensor_height_mm", "is required with a lens system (mm)"));
+        };
+        let sensor_height_mm = *sensor.get_ref();
+        if !(sensor_height_mm > 0.0 && sensor_height_mm <= 1e4) {
+            let message = format!("must lie in (0, 1e4] mm, got {sensor_height_mm}");
+            return Err(self.error(sensor.span(), "camera.sensor_height_mm", message));
+        }
+        let focus_distance_m = match &desc.focus_distance {
+            Some(focus) if !(*focus.get_ref() > 0.0 && *focus.get_ref() <= MAX_COORDINATE) => {
+                let message =
+                    format!("must lie in (0, {MAX_COORDINATE:e}], got {}", number(*focus.get_ref()));
+                return Err(self.error(focus.span(), "camera.focus_distance", message));
+            }
+            Some(focus) => f64::from(*focus.get_ref()),
+            None => f64::INFINITY,
+        };
+        let f_number = match &desc.f_number {
+            Some(n) if !(*n.get_ref() > 0.0 && n.get_ref().is_finite()) => {
+                let message = format!("must be positive and finite, got {}", n.get_ref());
+                return Err(self.error(n.span(), "camera.f_number", message));
+            }
+            Some(n) => Some(*n.get_ref()),
+            None => None,
+        };
+        let folder = self.path.parent().unwrap_or(Path::new(""));
+        let settings = LensSettings {
+            lens: folder.join(lens.get_ref()),
+            sensor_height_mm,
+            focus_distance_m,
+            f_number,
+            max_ghost_reflections: desc.lens_ghosts.as_ref().map_or(0, |g| *g.get_ref()),
+        };
+        LensCamera::new(position, look_at, up, desc.width, desc.height, settings)
+            .map(Camera::Lens)
+            .map_err(|err| self.error(lens.span(), "camera.lens", err.to_string()))
     }
 
     fn resolution(&self, pixels: u32, span: std::ops::Range<usize>, field: &str) -> Result<(), SceneError> {

@@ -65,8 +65,9 @@ pub struct CameraDesc {
     /// Up direction (need not be orthogonal to the view); +y when absent.
     #[serde(default = "default_up")]
     pub up: [f32; 3],
-    /// Vertical field of view in degrees.
-    pub fov_y_deg: f32,
+    /// Vertical field of view in degrees; required but with a `lens`, which refuses it.
+    #[serde(default)]
+    pub fov_y_deg: Option<Spanned<f32>>,
     /// Image width in pixels.
     pub width: u32,
     /// Image height in pixels.
@@ -78,6 +79,20 @@ pub struct CameraDesc {
     /// with a positive `aperture_radius`, refused without one.
     #[serde(default)]
     pub focus_distance: Option<Spanned<f32>>,
+    /// A lens system's file (pbrt-v4 lens file or Zemax `.zmx`), relative to the scene file
+    /// ([`crate::camera::LensCamera`]); `focus_distance` is then the distance in focus from
+    /// the lens's first vertex (absent: infinity).
+    #[serde(default)]
+    pub lens: Option<Spanned<String>>,
+    /// With `lens`: the image's height on the sensor (mm).
+    #[serde(default)]
+    pub sensor_height_mm: Option<Spanned<f64>>,
+    /// With `lens`: stop down to this f-number.
+    #[serde(default)]
+    pub f_number: Option<Spanned<f64>>,
+    /// With `lens`: the most ghost reflections a camera ray may take (default 0).
+    #[serde(default)]
+    pub lens_ghosts: Option<Spanned<u32>>,
 }
 
 fn default_up() -> [f32; 3] {

@@ -154,6 +154,8 @@ pub struct SampledWavelengths {
     pdf_per_nm: [f32; N_LAMBDA],
     grid: GridPositions,
     active: usize,
+    /// The first live lane: 0, or lane `i` alone for [`SampledWavelengths::lane_alone`].
+    first_live: usize,
     monochromatic: bool,
 }
 
@@ -185,6 +187,7 @@ impl SampledWavelengths {
             pdf_per_nm,
             grid: GridPositions::of(&lambda_nm),
             active: count,
+            first_live: 0,
             monochromatic: false,
         }
     }
@@ -197,6 +200,7 @@ impl SampledWavelengths {
             pdf_per_nm: pdf,
             grid: GridPositions::of(&[lambda_nm; N_LAMBDA]),
             active: 1,
+            first_live: 0,
             monochromatic: true,
         }
     }
@@ -227,13 +231,31 @@ impl SampledWavelengths {
     pub fn is_monochromatic(&self) -> bool {
         self.monochromatic
     }
+    /// The same wavelengths with lane `lane` (< [`Self::active`]) the only live one: its
+    /// [`Self::active_mask`] is 1 there and 0 elsewhere, so an integrator given it traces that
+    /// lane alone (a lens-system camera, whose ray differs per wavelength). The wavelengths and
+    /// densities stay those of the whole sample; [`Self::active`] becomes `lane + 1`, so this
+    /// is for the integrator only: the film is given the whole sample's wavelengths with the
+    /// lanes' results put together.
+    pub fn lane_alone(&self, lane: usize) -> Self {
+        debug_assert!(lane < self.active, "lane {lane} of {} active", self.active);
+        Self { first_live: lane, active: lane + 1, ..*self }
+    }
     /// 1 on active lanes, 0 on the others: the starting throughput of a camera ray.
     #[inline]
     pub fn active_mask(&self) -> SampledSpectrum {
         // Lane by lane, so that it is made in a register: a fill of the first `active` lanes
         // was a masked store read back at once by a wide load, which the processor cannot
         // forward (about 3 % of a camera sample's time in a monochromatic render).
-        SampledSpectrum { values: std::array::from_fn(|lane| if lane < self.active { 1.0 } else { 0.0 }) }
+        SampledSpectrum {
+            values: std::array::from_fn(|lane| {
+                if lane >= self.first_live && lane < self.active {
+                    1.0
+                } else {
+                    0.0
+                }
+            }),
+        }
     }
 }
 
@@ -352,6 +374,23 @@ mod tests {
         let mask = SampledWavelengths::sample_visible(0.3, 2).active_mask();
         assert_eq!(mask.values[..4], [1.0, 1.0, 0.0, 0.0]);
         assert!(mask.values[4..].iter().all(|&v| v == 0.0));
+    }
+
+    /// `lane_alone` keeps the wavelengths and densities and makes one lane live.
+    #[test]
+    fn lane_alone_keeps_one_lane_live() {
+        let wavelengths = SampledWavelengths::sample_visible(0.37, 4);
+        for lane in 0..4 {
+            let alone = wavelengths.lane_alone(lane);
+            let mask = alone.active_mask();
+            for i in 0..N_LAMBDA {
+                assert_eq!(mask.values[i], if i == lane { 1.0 } else { 0.0 });
+                assert_eq!(alone.lambda_nm(i), wavelengths.lambda_nm(i));
+            }
+            assert_eq!(alone.pdf_per_nm(lane), wavelengths.pdf_per_nm(lane));
+        }
+        // The whole sample's mask is unchanged by the field.
+        assert_eq!(wavelengths.active_mask().values[..5], [1.0, 1.0, 1.0, 1.0, 0.0]);
     }
 
     /// A histogram of 400 000 hero wavelengths (seeded) over 47 bins of 10 nm matches the

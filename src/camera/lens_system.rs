@@ -1,0 +1,247 @@
+//! [`LensCamera`]: a camera made of real glass, a lens prescription ([`crate::lens`]) in front
+//! of a sensor, traced per wavelength from the sensor out into the scene.
+//!
+//! ```toml
+//! [camera]
+//! position = [0, 1, -4]       # the lens's first vertex (scene units, metres)
+//! look_at = [0, 1, 0]
+//! up = [0, 1, 0]
+//! lens = "../data/lenses/dgauss50.dat"  # pbrt-v4 lens file or Zemax .zmx, relative to the scene
+//! sensor_height_mm = 24       # the image's height on the sensor (mm); width from the aspect
+//! focus_distance = 4          # metres from the first vertex; absent: infinity
+//! f_number = 2.8              # optional: stop down (never wider than the stop's semi-diameter)
+//! lens_ghosts = 0             # optional: the most ghost reflections a camera ray may take
+//! width = 320
+//! height = 240
+//! ```
+//!
+//! **Geometry.** The lens's axis +z (object toward image, [`crate::lens`]) is the view's
+//! reverse: lens −z is the view direction (`look_at − position`), lens +y the camera's up and
+//! lens +x the image's right (a rotation, no mirror: x × y = z maps to right × up =
+//! −forward). The first vertex sits at `position`; lens millimetres are scene metres / 1000.
+//! The sensor is behind the lens (toward +z), at the image plane of the prescription after
+//! focusing.
+//!
+//! **Upright image.** A real lens forms an inverted image: the sensor point at (+x, +y) sees
+//! the scene toward (−x, −y). As a camera's processing does, the image is turned by 180°: the
+//! pixel at film position (u right, v up) from the image centre, in mm on the sensor, reads
+//! the sensor point (−u, −v). So the image shows the scene as the pinhole does: upright, not
+//! mirrored.
+//!
+//! **Focus.** By moving the sensor: the prescription's last thickness becomes
+//! [`LensSystem::focus_thickness_mm`] of an object `focus_distance` (m → mm) in front of the
+//! first vertex, at the d line ([`LAMBDA_D_NM`], 587.5618 nm). Other wavelengths focus where
+//! the glass puts them (the chromatic focal shift shows in the render).
+//!
+//! **Radiometry.** Each camera ray's weight is [`crate::lens::CameraRay::weight`]: the sensor
+//! weight normalised so that a constant radiance L through the ideal lossless twin of the lens
+//! reads L at the image centre, times the lens's transmission along the ray (Fresnel losses at
+//! every surface; vignetting and cos⁴ falloff elsewhere). A ray that misses the lens
+//! contributes 0.
+//!
+//! **Polarisation.** In a polarised render the Stokes vector arriving along the ray goes
+//! through the lens's Mueller matrix (every surface's exact s/p Fresnel transmission, the
+//! frames turned between surfaces) into the sensor's frame.
+//!
+//! **Refused with it** (one-line errors): `fov_y_deg` (the lens and sensor set the field),
+//! `aperture_radius` (a thin lens), and caustics (light paths cannot be connected to the
+//! camera through glass).
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use glam::{DVec3, Vec3};
+
+use super::{CameraError, Pinhole};
+use crate::geometry::Ray;
+use crate::lens::{read_lens_file, CameraRay, LensSystem, SensorSampler, TraceOptions, LAMBDA_D_NM};
+
+/// Millimetres per scene unit (metre).
+const MM_PER_METRE: f64 = 1000.0;
+
+/// What the `[camera]` table says about the lens, besides the pinhole's frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LensSettings {
+    /// The lens file (pbrt-v4 `.dat` or Zemax `.zmx`), as resolved against the scene's folder.
+    pub lens: PathBuf,
+    /// The image's height on the sensor (mm).
+    pub sensor_height_mm: f64,
+    /// Distance of the plane in focus from the first vertex (scene units, metres);
+    /// `f64::INFINITY` for infinity.
+    pub focus_distance_m: f64,
+    /// Stop down to this f-number (for an object at infinity, at the d line); `None`: as the
+    /// prescription is.
+    pub f_number: Option<f64>,
+    /// The most ghost reflections a camera ray may take (0: the transmitted path only).
+    pub max_ghost_reflections: u32,
+}
+
+/// A lens-system camera: the pinhole's frame and resolution, a lens focused and stopped down as
+/// [`LensSettings`] say, and its sampler (exit-pupil bounds and normalisation, measured once).
+#[derive(Clone, Debug)]
+pub struct LensCamera {
+    /// Frame and resolution; its field of view is the paraxial one of the sensor at the d
+    /// line (for the chief-ray approximation [`super::Camera::ray`]).
+    pinhole: Pinhole,
+    settings: LensSettings,
+    sampler: Arc<SensorSampler>,
+    /// The image's width on the sensor (mm): the height times the aspect ratio.
+    sensor_width_mm: f64,
+}
+
+impl PartialEq for LensCamera {
+    fn eq(&self, other: &Self) -> bool {
+        // The sampler is a function of the settings and the file.
+        self.pinhole == other.pinhole && self.settings == other.settings
+    }
+}
+
+impl LensCamera {
+    /// Reads `settings.lens`, focuses it, stops it down and measures its sampler, for a camera
+    /// at `position` looking at `look_at` with `up`, of `width`×`height` pixels.
+    ///
+    /// # Errors
+    /// The lens reader's error (naming the file and line), a focus the lens cannot reach, an
+    /// f-number wider than the stop allows, or a degenerate frame.
+    pub fn new(
+        position: Vec3,
+        look_at: Vec3,
+        up: Vec3,
+        width: u32,
+        height: u32,
+        settings: LensSettings,
+    ) -> Result<Self, CameraError> {
+        let lens_error = |message: String| CameraError::Lens(message);
+        if !(settings.sensor_height_mm > 0.0 && settings.sensor_height_mm.is_finite()) {
+            return Err(lens_error(format!(
+                "sensor_height_mm must be positive and finite, got {}",
+                settings.sensor_height_mm
+            )));
+        }
+        if settings.focus_distance_m.is_nan() || settings.focus_distance_m <= 0.0 {
+            return Err(CameraError::FocusDistance(settings.focus_distance_m as f32));
+        }
+        let mut system = read_lens_file(&settings.lens).map_err(|err| lens_error(err.to_string()))?;
+        let file = settings.lens.display().to_string();
+        let paraxial = system.paraxial(LAMBDA_D_NM).map_err(|err| lens_error(err.to_string()))?;
+        if let Some(f_number) = settings.f_number {
+            let stop = system.stop_index().ok_or_else(|| lens_error(format!("{file}: no aperture stop")))?;
+            let current = system.surfaces[stop].semi_diameter_mm;
+            let wanted = paraxial.stop_semi_diameter_for_f_number(f_number, current);
+            if !(f_number > 0.0 && wanted.is_finite()) {
+                return Err(lens_error(format!("f_number must be positive and finite, got {f_number}")));
+            }
+            if wanted > current * (1.0 + 1e-9) {
+                return Err(lens_error(format!(
+                    "f_number {f_number} opens the stop of {file} beyond its semi-diameter {current} mm \
+                     (the widest is f/{:.3})",
+                    paraxial.f_number
+                )));
+            }
+            system.surfaces[stop].semi_diameter_mm = wanted;
+        }
+        let object_mm = settings.focus_distance_m * MM_PER_METRE;
+        let thickness =
+            system.focus_thickness_mm(object_mm, LAMBDA_D_NM).map_err(|err| lens_error(err.to_string()))?;
+        if !(thickness > 0.0 && thickness.is_finite()) {
+            return Err(lens_error(format!(
+                "{file}: focused at {} m the image lies {thickness:.3} mm from the last vertex: the sensor \
+                 would be inside or in front of the lens",
+                settings.focus_distance_m
+            )));
+        }
+        let last = system.surfaces.len() - 1;
+        system.surfaces[last].thickness_mm = thickness;
+        let fov_y_deg = (2.0 * (0.5 * settings.sensor_height_mm / paraxial.efl_mm.abs()).atan()).to_degrees();
+        let pinhole = Pinhole::look_at(position, look_at, up, fov_y_deg as f32, width, height)?;
+        Ok(Self::with_system(pinhole, settings, system))
+    }
+
+    /// The camera of `system` (focused and stopped down), measuring its sampler for the
+    /// pinhole's resolution.
+    fn with_system(pinhole: Pinhole, settings: LensSettings, system: LensSystem) -> Self {
+        let sensor_width_mm = settings.sensor_height_mm * pinhole.width() as f64 / pinhole.height() as f64;
+        let half_diagonal = 0.5 * sensor_width_mm.hypot(settings.sensor_height_mm);
+        let sampler = Arc::new(SensorSampler::new(system, half_diagonal, LAMBDA_D_NM));
+        Self { pinhole, settings, sampler, sensor_width_mm }
+    }
+
+    /// The same camera with another resolution: the sensor height stays, the width follows the
+    /// aspect ratio (the sampler is measured again when the aspect changes).
+    pub fn with_resolution(&self, width: u32, height: u32) -> Result<Self, CameraError> {
+        let pinhole = self.pinhole.with_resolution(width, height)?;
+        if u64::from(width) * u64::from(self.pinhole.height())
+            == u64::from(height) * u64::from(self.pinhole.width())
+        {
+            return Ok(Self { pinhole, ..self.clone() });
+        }
+        Ok(Self::with_system(pinhole, self.settings.clone(), self.sampler.tracer.system.clone()))
+    }
+
+    /// The frame, resolution and paraxial field, as a pinhole.
+    pub fn pinhole(&self) -> &Pinhole {
+        &self.pinhole
+    }
+
+    /// The settings it was made from.
+    pub fn settings(&self) -> &LensSettings {
+        &self.settings
+    }
+
+    /// The lens as traced (focused and stopped down) with its sampler.
+    pub fn sampler(&self) -> &SensorSampler {
+        &self.sampler
+    }
+
+    /// The lens file.
+    pub fn lens_file(&self) -> &Path {
+        &self.settings.lens
+    }
+
+    /// The sensor point (mm, lens coordinates) that film position (`x`, `y`) in pixels reads:
+    /// the film position about the image centre, turned by 180° (the upright image).
+    pub fn sensor_point_mm(&self, x: f32, y: f32) -> [f64; 2] {
+        let u = (f64::from(x) / f64::from(self.pinhole.width()) - 0.5) * self.sensor_width_mm;
+        let v = (0.5 - f64::from(y) / f64::from(self.pinhole.height())) * self.settings.sensor_height_mm;
+        [-u, -v]
+    }
+
+    /// A camera ray from film position (`x`, `y`) in pixels through the lens at `lambda_nm`,
+    /// aimed by the uniform pair `u_pupil`, with `next_uniform` for ghost branches; `None` when
+    /// it does not pass the lens (the sample contributes 0). The ray is in scene space; the
+    /// [`CameraRay`] gives its weights: [`CameraRay::weight`] multiplies the radiance of
+    /// unpolarised light, `sensor_weight` × `sample.mueller` the Stokes vector arriving along
+    /// the ray in the frame x = normalize(dir × up) ([`super::Camera::stokes_x`]; the lens's
+    /// scene-side frame, lens +y being the camera's up), giving it in the sensor's frame
+    /// (x = the image's right for the central ray, as the pinhole's; the 180° turn of the image
+    /// leaves Stokes vectors as they are).
+    pub fn sample_ray(
+        &self,
+        x: f32,
+        y: f32,
+        u_pupil: (f32, f32),
+        lambda_nm: f32,
+        next_uniform: &mut dyn FnMut() -> f64,
+    ) -> Option<(Ray, CameraRay)> {
+        let options = TraceOptions {
+            max_ghost_reflections: self.settings.max_ghost_reflections,
+            ..TraceOptions::new(f64::from(lambda_nm))
+        };
+        let u = [f64::from(u_pupil.0), f64::from(u_pupil.1)];
+        let camera_ray = self.sampler.sample(self.sensor_point_mm(x, y), u, &options, next_uniform)?;
+        if !(camera_ray.weight > 0.0 && (camera_ray.weight as f32).is_finite()) {
+            return None;
+        }
+        let origin = self.to_world(camera_ray.sample.origin_mm / MM_PER_METRE);
+        let dir = self.to_world(camera_ray.sample.dir);
+        let ray = Ray::new(self.pinhole.position() + origin, dir.normalize());
+        Some((ray, camera_ray))
+    }
+
+    /// A vector in lens coordinates, in scene space: x → right, y → up, z → −forward.
+    fn to_world(&self, v: DVec3) -> Vec3 {
+        let (right, up) = self.pinhole.right_and_up();
+        let forward = up.cross(right);
+        v.x as f32 * right + v.y as f32 * up - v.z as f32 * forward
+    }
+}
