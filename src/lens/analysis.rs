@@ -232,7 +232,8 @@ impl Analysis {
             .collect();
         let max_height = heights.iter().copied().filter(|h| h.is_finite()).fold(0.0, f64::max);
         let bounds = ExitPupilBounds::measure(&self.tracer, max_height.max(1e-3) * 1.001, 32, 48);
-        let (axis_geometric, axis_fresnel) = self.irradiance(&bounds, 0.0);
+        // Both columns are relative to the lossless lens's axis.
+        let (axis, _) = self.irradiance(&bounds, 0.0);
         fields_deg
             .iter()
             .zip(&heights)
@@ -242,18 +243,10 @@ impl Analysis {
                 Illumination {
                     field_deg,
                     image_height_mm: height,
-                    relative: geometric / axis_geometric,
-                    relative_with_fresnel: fresnel / axis_geometric,
+                    relative: geometric / axis,
+                    relative_with_fresnel: fresnel / axis,
                     transmission: if geometric > 0.0 { fresnel / geometric } else { f64::NAN },
                 }
-            })
-            .collect::<Vec<_>>()
-            .into_iter()
-            .map(|mut row| {
-                // The Fresnel column is relative to the lossless axis; so is the geometric one.
-                row.relative_with_fresnel =
-                    if axis_fresnel > 0.0 { row.relative_with_fresnel } else { f64::NAN };
-                row
             })
             .collect()
     }
