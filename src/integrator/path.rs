@@ -569,6 +569,38 @@ impl<'a> PathTracer<'a> {
         state.ray = Ray::new(spawn_origin(hit.point, hit.normal, dir), dir);
     }
 
+    /// The branch choice at a specular interface: reflection with probability
+    /// p = reflected / (reflected + transmitted) (`sums`: each branch's response summed over
+    /// the live lanes), taken here with the response `reflection` divided by p; otherwise the
+    /// transmission's probability 1 − p, for the caller to take. [`Branch::Ended`] when neither
+    /// branch carries light.
+    #[allow(clippy::too_many_arguments)] // the vertex and its two branches, passed flat
+    fn choose_branch<B: PathBeam>(
+        &self,
+        state: &mut PathState<B::Response>,
+        hit: &Hit,
+        normal: Vec3,
+        reflection: &Mueller,
+        (reflected_sum, transmitted_sum): (f32, f32),
+        rng: &mut PixelRng,
+    ) -> Branch {
+        let total = reflected_sum + transmitted_sum;
+        if total.is_nan() || total <= 0.0 {
+            return Branch::Ended;
+        }
+        let p_reflect = reflected_sum / total;
+        state.previous = Previous::Specular;
+        state.eye_vertex_diffuse.get_or_insert(false);
+        if rng.uniform() < p_reflect {
+            let reflection = reflection.scaled(SampledSpectrum::splat(1.0 / p_reflect));
+            let reflected = reflect(state.ray.dir, normal).normalize();
+            self.turn::<B>(state, hit, normal, &reflection, reflected);
+            Branch::Reflected
+        } else {
+            Branch::Transmitted { probability: 1.0 - p_reflect }
+        }
+    }
+
     /// A free-standing film: one branch, the mirrored or the straight one, chosen with
     /// probability proportional to the film's R or T summed over the live lanes (weighted by
     /// the path's response) and divided by it. False when the path ends.
@@ -593,20 +625,14 @@ impl<'a> PathTracer<'a> {
             reflected_sum += w * reflection.a[lane];
             transmitted_sum += w * transmission.a[lane];
         }
-        let total = reflected_sum + transmitted_sum;
-        if total.is_nan() || total <= 0.0 {
-            return false;
-        }
-        let p_reflect = reflected_sum / total;
-        state.previous = Previous::Specular;
-        state.eye_vertex_diffuse.get_or_insert(false);
-        if rng.uniform() < p_reflect {
-            let reflection = reflection.scaled(SampledSpectrum::splat(1.0 / p_reflect));
-            let reflected = reflect(dir, normal).normalize();
-            self.turn::<B>(state, hit, normal, &reflection, reflected);
-        } else {
-            let transmission = transmission.scaled(SampledSpectrum::splat(1.0 / (1.0 - p_reflect)));
-            self.turn::<B>(state, hit, normal, &transmission, dir);
+        match self.choose_branch::<B>(state, hit, normal, &reflection, (reflected_sum, transmitted_sum), rng)
+        {
+            Branch::Ended => return false,
+            Branch::Reflected => {}
+            Branch::Transmitted { probability } => {
+                let transmission = transmission.scaled(SampledSpectrum::splat(1.0 / probability));
+                self.turn::<B>(state, hit, normal, &transmission, dir);
+            }
         }
         true
     }
@@ -683,20 +709,18 @@ impl<'a> PathTracer<'a> {
                 transmitted_sum += w * m.a[lane] * eta * eta;
             }
         }
-        let total = reflected_sum + transmitted_sum;
-        if total.is_nan() || total <= 0.0 {
-            return false;
-        }
-        let p_reflect = reflected_sum / total;
-        state.previous = Previous::Specular;
-        state.eye_vertex_diffuse.get_or_insert(false);
-        if rng.uniform() < p_reflect {
-            let reflection = reflection.scaled(SampledSpectrum::splat(1.0 / p_reflect));
-            let reflected = reflect(dir, normal).normalize();
-            self.turn::<B>(state, hit, normal, &reflection, reflected);
-            return true;
-        }
-        let p_transmit = 1.0 - p_reflect;
+        let p_transmit = match self.choose_branch::<B>(
+            state,
+            hit,
+            normal,
+            &reflection,
+            (reflected_sum, transmitted_sum),
+            rng,
+        ) {
+            Branch::Ended => return false,
+            Branch::Reflected => return true,
+            Branch::Transmitted { probability } => probability,
+        };
         if !split {
             let Some((refracted, transmission)) = transmissions[first_live] else { return false };
             let transmission = transmission.scaled(SampledSpectrum::splat(1.0 / p_transmit));
@@ -731,6 +755,19 @@ impl<'a> PathTracer<'a> {
         }
         continued
     }
+}
+
+/// What [`PathTracer::choose_branch`] did at a specular interface.
+enum Branch {
+    /// Neither branch carries light: the path ends.
+    Ended,
+    /// The reflection was taken.
+    Reflected,
+    /// The transmission is to be taken, with this probability to divide by.
+    Transmitted {
+        /// 1 − p_reflect.
+        probability: f32,
+    },
 }
 
 /// Camera rays of the scene probe ([`background_selection`]): a grid of this many columns and
