@@ -403,3 +403,106 @@ fn the_two_sides_agree_through_polarising_sheets() {
     assert!(passes(&comparison));
     assert!(!passes(&faulty));
 }
+
+/// A coarse sphere (6 segments around, 4 rings) as an OBJ with the true sphere's normals at its
+/// vertices: over each flat triangle the interpolated shading normal tilts up to about 30° off
+/// the geometric one.
+fn coarse_sphere_obj() -> String {
+    let (segments, rings) = (6, 4);
+    let mut obj = String::new();
+    let mut vertex = |theta: f64, phi: f64| {
+        let p = [theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin()];
+        obj.push_str(&format!("v {} {} {}\nvn {} {} {}\n", p[0], p[1], p[2], p[0], p[1], p[2]));
+    };
+    vertex(0.0, 0.0);
+    for ring in 1..rings {
+        for segment in 0..segments {
+            let theta = std::f64::consts::PI * ring as f64 / rings as f64;
+            vertex(theta, std::f64::consts::TAU * segment as f64 / segments as f64);
+        }
+    }
+    vertex(std::f64::consts::PI, 0.0);
+    // 1-based: the north pole 1, ring r's segment s at 2 + (r − 1)·segments + s, the south pole last.
+    let at = |ring: usize, segment: usize| 2 + (ring - 1) * segments + segment % segments;
+    let south = 2 + (rings - 1) * segments;
+    let mut faces = String::new();
+    for s in 0..segments {
+        faces.push_str(&format!("f 1//1 {a}//{a} {b}//{b}\n", a = at(1, s + 1), b = at(1, s)));
+        for ring in 1..rings - 1 {
+            let (a, b, c, d) = (at(ring, s), at(ring, s + 1), at(ring + 1, s + 1), at(ring + 1, s));
+            faces.push_str(&format!("f {a}//{a} {b}//{b} {c}//{c}\nf {a}//{a} {c}//{c} {d}//{d}\n"));
+        }
+        faces.push_str(&format!(
+            "f {south}//{south} {a}//{a} {b}//{b}\n",
+            a = at(rings - 1, s),
+            b = at(rings - 1, s + 1)
+        ));
+    }
+    obj + &faces
+}
+
+/// Where [`coarse_sphere_obj`] stands in [`ROOM`] (scaled by [`MESH_RADIUS`]).
+const MESH_CENTRE: [f32; 3] = [0.0, 0.8, 0.6];
+/// Its radius.
+const MESH_RADIUS: f32 = 0.8;
+
+/// Per pixel, true when every ray of a 4 × 4 grid over the pixel first meets the smooth-shaded
+/// mesh (a point within its bounding sphere; the room's other shapes are farther away).
+fn mesh_seen(scene: &Scene) -> Vec<bool> {
+    let centre = glam::Vec3::from(MESH_CENTRE);
+    let (w, h) = (scene.camera.width() as usize, scene.camera.height() as usize);
+    (0..w * h)
+        .map(|i| {
+            (0..16).all(|k| {
+                let (x, y) = (
+                    (i % w) as f32 + (k % 4) as f32 * 0.25 + 0.125,
+                    (i / w) as f32 + (k / 4) as f32 * 0.25 + 0.125,
+                );
+                let ray = scene.camera.ray(x, y);
+                scene
+                    .geometry
+                    .intersect(&ray, f32::INFINITY)
+                    .is_some_and(|hit| (hit.point - centre).length() < MESH_RADIUS * 1.01)
+            })
+        })
+        .collect()
+}
+
+/// Shading normals (Veach's thesis §5.3): [`ROOM`] with a coarse diffuse sphere whose vertex
+/// normals are smooth (an OBJ with `vn`) in front of the spheres. On the pixels that see it,
+/// the light side, which carries the adjoint of the shading normal's BSDF, agrees with the
+/// camera side, and so does the whole image; the light side shading the mesh as the camera
+/// side does (`Fault::NoShadingNormalAdjoint`, what prisma did before) does not.
+#[test]
+fn the_two_sides_agree_on_a_smooth_shaded_mesh() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    std::fs::write(dir.path().join("coarse_sphere.obj"), coarse_sphere_obj()).expect("the mesh is written");
+    let mesh = format!(
+        "\n[materials.coarse]\ntype = \"diffuse\"\nalbedo = 0.8\n\n[[shapes]]\ntype = \"mesh\"\n\
+         file = \"coarse_sphere.obj\"\nscale = {MESH_RADIUS}\nposition = {MESH_CENTRE:?}\nmaterial = \"coarse\"\n"
+    );
+    let text = format!("{ROOM}{mesh}");
+    let scene = prisma::scene::parse(&text, &dir.path().join("adjoint_mesh.toml")).expect("the room parses");
+    let on_mesh = mesh_seen(&scene);
+    let mesh_pixels = on_mesh.iter().filter(|&&m| m).count();
+    eprintln!("{mesh_pixels} pixels see the mesh");
+    assert!(mesh_pixels >= 40, "{mesh_pixels}: the mesh must fill part of the image");
+
+    let mask = diffuse_or_light_seen_directly(&scene);
+    let camera = [camera_side(&scene, 1, SPP, None), camera_side(&scene, 2, SPP, None)];
+    let paths = LIGHT_PATHS_PER_PIXEL * mask.len() as u64;
+    let light = [light_side(&scene, 11, paths, None), light_side(&scene, 12, paths, None)];
+    let comparison = compare(&light, &camera, &mask);
+    report("light alone vs camera alone", &comparison);
+    assert!(passes(&comparison));
+    let on_mesh_and_diffuse: Vec<bool> = on_mesh.iter().zip(&mask).map(|(a, b)| *a && *b).collect();
+    let comparison = compare(&light, &camera, &on_mesh_and_diffuse);
+    report("on the mesh: light alone vs camera alone", &comparison);
+    assert!(passes(&comparison));
+
+    let fault = Some(Fault::NoShadingNormalAdjoint);
+    let faulty = [light_side(&scene, 13, paths, fault), light_side(&scene, 14, paths, fault)];
+    let faulty = compare(&faulty, &camera, &on_mesh_and_diffuse);
+    report("on the mesh: NoShadingNormalAdjoint on the light side", &faulty);
+    assert!(!passes(&faulty));
+}

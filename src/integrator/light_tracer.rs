@@ -117,9 +117,18 @@
 //! larger over the lanes, and is divided by it (unbiased; a survivor carries the starting flux
 //! again, so a path's splats stay of one size). `max_depth` then counts **every** interaction,
 //! diffuse, specular and sheets: a path is counted when its vertices between the light and the
-//! camera (the diffuse one the camera sees included) number at most `max_depth`. Shading normals
-//! shade as in the connection: Veach's correction for the adjoint of a shading normal (§5.3) is
-//! not applied, so on smooth-shaded diffuse meshes the light side is approximate there.
+//! camera (the diffuse one the camera sees included) number at most `max_depth`.
+//!
+//! # Shading normals
+//! Where a mesh's interpolated shading normal differs from its geometric one, the light side
+//! carries Veach's adjoint BSDF (thesis §5.3; pbrt's `CorrectShadingNormal` in importance
+//! mode): every vertex a light path leaves (mirror, glass, sheet, diffuse scattering) and every
+//! connection to the camera multiplies the flux by |ω_i·N_s||ω_o·N_g|/(|ω_i·N_g||ω_o·N_s|)
+//! (ω_i back toward the light, ω_o onward), so a diffuse connection weighs
+//! f·(ω_i·N_s/ω_i·N_g)·(ω_o·N_g): the flux arriving per unit of geometric area, turned into the
+//! shading irradiance, seen over the geometric area. Without it the light side and the camera
+//! side disagree on smooth-shaded meshes (`tests/adjoint_transport.rs`,
+//! `Fault::NoShadingNormalAdjoint`). Flat shapes are untouched, bit for bit.
 
 use glam::Vec3;
 
@@ -488,6 +497,11 @@ impl<'a> LightTracer<'a> {
         reference: f32,
         rng: &mut LightPathRng,
     ) {
+        let flux = match self.shading_adjoint(hit, -parent.ray.dir, dir) {
+            None => flux,
+            Some(factor) if factor.is_finite() => flux.scaled(SampledSpectrum::splat(factor)),
+            Some(_) => return,
+        };
         let strength = flux.components()[0].max_value() / reference;
         if strength.is_nan() || strength <= 0.0 {
             return;
@@ -514,6 +528,30 @@ impl<'a> LightTracer<'a> {
             through_specular,
             after_diffuse: parent.after_diffuse,
         });
+    }
+
+    /// Whether `hit`'s shading normal differs from its geometric one and the light side corrects
+    /// for it ([`Self::shading_adjoint`]).
+    fn corrects_shading(&self, hit: &Hit) -> bool {
+        hit.shading_normal != hit.normal && self.fault != Some(Fault::NoShadingNormalAdjoint)
+    }
+
+    /// Veach's correction for the adjoint of a shading normal (thesis §5.3): a path leaving `hit`
+    /// along `out` after arriving from `to_light` (the direction back along the arriving
+    /// segment) carries flux, and a shading normal N_s tilted off the geometric normal N_g makes
+    /// the adjoint of the camera side's BSDF f(ω_o → ω_i)·|ω_i·N_s| the light side's
+    /// f·|ω_i·N_s|·|ω_o·N_g|/(|ω_i·N_g|·|ω_o·N_s|) with ω_i = `to_light`, ω_o = `out`: the factor
+    /// returned. `None` where the two normals are one (every flat shape), so nothing changes
+    /// there, nor under `Fault::NoShadingNormalAdjoint`. Straight through a sheet it is 1; a
+    /// direction grazing N_g or N_s makes it infinite or NaN (the caller drops the path).
+    fn shading_adjoint(&self, hit: &Hit, to_light: Vec3, out: Vec3) -> Option<f32> {
+        if !self.corrects_shading(hit) {
+            return None;
+        }
+        let (geometric, shading) = (hit.normal, hit.shading_normal);
+        Some(
+            (to_light.dot(shading) * out.dot(geometric) / (to_light.dot(geometric) * out.dot(shading))).abs(),
+        )
     }
 
     /// A dielectric: Beer–Lambert over the segment just crossed inside, then both Fresnel
@@ -743,6 +781,10 @@ impl<'a> LightTracer<'a> {
     ) {
         let to_light = -photon.ray.dir;
         let (normal, shading_normal) = lit_side(hit, to_light);
+        // The camera side gathers light only from directions above the shading normal too.
+        if self.corrects_shading(hit) && shading_normal.dot(to_light) <= 0.0 {
+            return;
+        }
         let u = (rng.uniform(), rng.uniform());
         let (dir, _pdf) = Diffuse::sample(shading_normal, u);
         // A shading normal tilted off the geometric one can aim a sample into the surface.
@@ -775,8 +817,21 @@ impl<'a> LightTracer<'a> {
         let to_light = -photon.ray.dir;
         let (normal, shading_normal) = lit_side(hit, to_light);
         let to_camera = seen.to_camera;
-        let cos_camera = shading_normal.dot(to_camera);
-        if cos_camera <= 0.0 || normal.dot(to_camera) <= 0.0 {
+        let cos_camera = if self.corrects_shading(hit) {
+            // f·|ω_o·N_s| times the adjoint's factor (`shading_adjoint`): the light's cosine on
+            // the shading normal over its cosine on the geometric one, times the camera's on
+            // the geometric one; the camera side gathers only light from above the shading
+            // normal.
+            if shading_normal.dot(to_light) <= 0.0 {
+                return;
+            }
+            normal.dot(to_camera) * (shading_normal.dot(to_light) / normal.dot(to_light))
+        } else if shading_normal.dot(to_camera) <= 0.0 {
+            return;
+        } else {
+            shading_normal.dot(to_camera)
+        };
+        if !(cos_camera > 0.0 && cos_camera.is_finite()) || normal.dot(to_camera) <= 0.0 {
             return;
         }
         let cosine = if self.fault == Some(Fault::NoReceiverCosine) { 1.0 } else { cos_camera };

@@ -107,6 +107,10 @@ pub enum Fault {
     CoatingPhaseDropped,
     /// The s and p amplitudes of every coating's stack exchanged.
     CoatingSpSwapped,
+    /// The light tracer shades smooth-shaded meshes as the camera side does, without Veach's
+    /// correction for the adjoint of a shading normal (the light side's flux off by
+    /// |ω_i·N_s||ω_o·N_g|/(|ω_i·N_g||ω_o·N_s|) at every vertex where the normals differ).
+    NoShadingNormalAdjoint,
 }
 
 /// The coatings' share of `fault` (`material::dielectric::CoatingFault`).
