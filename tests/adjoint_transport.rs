@@ -266,6 +266,11 @@ fn first_vertex(scene: &Scene, mut ray: Ray) -> Option<(bool, &Material)> {
 /// Per pixel (row-major), true when `seen` holds for what the camera ray meets first
 /// ([`first_vertex`]) over the whole pixel: a 4 × 4 grid of rays.
 fn over_each_pixel(scene: &Scene, seen: impl Fn(Option<(bool, &Material)>) -> bool) -> Vec<bool> {
+    every_ray_of_each_pixel(scene, |ray| seen(first_vertex(scene, ray)))
+}
+
+/// Per pixel (row-major), true when `holds` for every camera ray of a 4 × 4 grid over it.
+fn every_ray_of_each_pixel(scene: &Scene, holds: impl Fn(Ray) -> bool) -> Vec<bool> {
     let (w, h) = (scene.camera.width() as usize, scene.camera.height() as usize);
     (0..w * h)
         .map(|i| {
@@ -274,7 +279,7 @@ fn over_each_pixel(scene: &Scene, seen: impl Fn(Option<(bool, &Material)>) -> bo
                     (i % w) as f32 + (k % 4) as f32 * 0.25 + 0.125,
                     (i / w) as f32 + (k / 4) as f32 * 0.25 + 0.125,
                 );
-                seen(first_vertex(scene, scene.camera.ray(x, y)))
+                holds(scene.camera.ray(x, y))
             })
         })
         .collect()
@@ -450,22 +455,12 @@ const MESH_RADIUS: f32 = 0.8;
 /// mesh (a point within its bounding sphere; the room's other shapes are farther away).
 fn mesh_seen(scene: &Scene) -> Vec<bool> {
     let centre = glam::Vec3::from(MESH_CENTRE);
-    let (w, h) = (scene.camera.width() as usize, scene.camera.height() as usize);
-    (0..w * h)
-        .map(|i| {
-            (0..16).all(|k| {
-                let (x, y) = (
-                    (i % w) as f32 + (k % 4) as f32 * 0.25 + 0.125,
-                    (i / w) as f32 + (k / 4) as f32 * 0.25 + 0.125,
-                );
-                let ray = scene.camera.ray(x, y);
-                scene
-                    .geometry
-                    .intersect(&ray, f32::INFINITY)
-                    .is_some_and(|hit| (hit.point - centre).length() < MESH_RADIUS * 1.01)
-            })
-        })
-        .collect()
+    every_ray_of_each_pixel(scene, |ray| {
+        scene
+            .geometry
+            .intersect(&ray, f32::INFINITY)
+            .is_some_and(|hit| (hit.point - centre).length() < MESH_RADIUS * 1.01)
+    })
 }
 
 /// Shading normals (Veach's thesis §5.3): [`ROOM`] with a coarse diffuse sphere whose vertex
