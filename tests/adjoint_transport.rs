@@ -18,17 +18,16 @@
 //! (validation/README.md, "Metrics and thresholds", and "Full transport: the light side against
 //! the camera side" for what this test measured).
 
-use prisma::film::{Film, FilmLayout, Splats, WindowSums};
+mod adjoint;
+
+use adjoint::passes;
+use prisma::film::Film;
 use prisma::geometry::{spawn_origin, Ray};
-use prisma::integrator::light_tracer::Scratch;
-use prisma::integrator::{Fault, LightTracer, TraceStats};
+use prisma::integrator::Fault;
 use prisma::material::Material;
-use prisma::part::PixelWindow;
 use prisma::polarization::Stokes;
 use prisma::render::{render, Job};
-use prisma::sampler::LightPathSequence;
 use prisma::scene::{IntegratorKind, Scene};
-use prisma::validate::cases::{DEFAULT_MAX_MEAN_Z, DEFAULT_MAX_OUTLIER_FRACTION};
 use prisma::validate::metrics::{compare_with, Comparison, Options, Planes};
 
 /// A room (floor, ceiling, back and side walls; open behind the camera, the background black)
@@ -206,45 +205,9 @@ fn camera_side(scene: &Scene, seed: u64, spp: u32, fault: Option<Fault>) -> Plan
 }
 
 /// The light tracer alone ([`LightTracer::counting_everything`]), `fault` on the light side
-/// only, seed `seed`: `paths` light paths split over [`THREADS`] threads, their splats summed
-/// exactly (the image does not depend on the split), divided by `paths`.
+/// only, seed `seed`: `paths` light paths over [`THREADS`] threads, divided by `paths`.
 fn light_side(scene: &Scene, seed: u64, paths: u64, fault: Option<Fault>) -> Planes {
-    let tracer =
-        LightTracer::new(scene, &scene.settings, Some(LAMBDA_NM)).with_fault(fault).counting_everything();
-    assert_eq!(tracer.why_none(), None);
-    let (width, height) = (scene.camera.width(), scene.camera.height());
-    let layout = FilmLayout { stokes: true, bands: None, monochromatic_nm: Some(LAMBDA_NM) };
-    let light_layout = tracer.splat_layout(&layout);
-    let sequence = LightPathSequence::new(seed);
-    let per_thread = paths.div_ceil(THREADS as u64);
-    let splats: Vec<Splats> = std::thread::scope(|scope| {
-        let workers: Vec<_> = (0..THREADS as u64)
-            .map(|t| {
-                let (tracer, sequence) = (&tracer, &sequence);
-                let range = (t * per_thread).min(paths)..((t + 1) * per_thread).min(paths);
-                scope.spawn(move || {
-                    let (mut splats, mut scratch, mut stats) =
-                        (Splats::default(), Scratch::<Stokes>::default(), TraceStats::default());
-                    for mut rng in sequence.paths(range) {
-                        tracer.trace_path::<Stokes>(
-                            &mut rng,
-                            &light_layout,
-                            &mut splats,
-                            &mut scratch,
-                            &mut stats,
-                        );
-                    }
-                    splats
-                })
-            })
-            .collect();
-        workers.into_iter().map(|w| w.join().expect("a light-tracing thread")).collect()
-    });
-    let mut sums = WindowSums::with_light_layout(PixelWindow::full(width, height), layout, light_layout);
-    for part in &splats {
-        assert_eq!(sums.add_splats(part, width), None);
-    }
-    stokes_planes(&sums.film(1, paths, (width, height)))
+    stokes_planes(&adjoint::light_side_film::<Stokes>(scene, (LAMBDA_NM, fault), seed, paths, THREADS))
 }
 
 /// What `ray` meets first past the polarising sheets (which are no vertex of a path): whether
@@ -317,14 +280,6 @@ fn compare(light: &[Planes; 2], camera: &[Planes; 2], mask: &[bool]) -> Comparis
         &camera[1],
         &Options { mask: Some(mask), reference_variance: None, mean_tolerance: 0.0 },
     )
-}
-
-/// True when `comparison` passes `prisma validate`'s default checks for bias: outliers beyond the
-/// null at most [`DEFAULT_MAX_OUTLIER_FRACTION`], and |z| of the image means at most
-/// [`DEFAULT_MAX_MEAN_Z`].
-fn passes(comparison: &Comparison) -> bool {
-    comparison.outlier_fraction - comparison.null_outlier_fraction <= DEFAULT_MAX_OUTLIER_FRACTION
-        && comparison.mean_z <= DEFAULT_MAX_MEAN_Z
 }
 
 fn report(label: &str, comparison: &Comparison) {

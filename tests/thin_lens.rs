@@ -2,15 +2,13 @@
 //! closed form, and the light tracer's connection to the lens against the camera's own paths
 //! (the adjoint check of tests/adjoint_transport.rs, through a lens).
 
-use prisma::film::{Film, FilmLayout, Splats, WindowSums};
-use prisma::integrator::light_tracer::Scratch;
-use prisma::integrator::{LightTracer, TraceStats};
-use prisma::part::PixelWindow;
+mod adjoint;
+
+use adjoint::passes;
+use prisma::film::Film;
 use prisma::render::{render, Job};
-use prisma::sampler::LightPathSequence;
 use prisma::scene::{IntegratorKind, Scene};
 use prisma::spectrum::SampledSpectrum;
-use prisma::validate::cases::{DEFAULT_MAX_MEAN_Z, DEFAULT_MAX_OUTLIER_FRACTION};
 use prisma::validate::metrics::{compare_with, Comparison, Options, Planes};
 
 /// The wavelength of every render, nm.
@@ -233,43 +231,9 @@ emit = "edge2_cross_edge1"
 "#;
 
 /// The light tracer alone ([`LightTracer::counting_everything`]), seed `seed`: `paths` light
-/// paths split over [`THREADS`] threads, their splats summed exactly, divided by `paths`.
+/// paths over [`THREADS`] threads, divided by `paths`.
 fn light_side(scene: &Scene, seed: u64, paths: u64) -> Vec<f64> {
-    let tracer = LightTracer::new(scene, &scene.settings, Some(LAMBDA_NM)).counting_everything();
-    assert_eq!(tracer.why_none(), None);
-    let (width, height) = (scene.camera.width(), scene.camera.height());
-    let layout = FilmLayout { stokes: false, bands: None, monochromatic_nm: Some(LAMBDA_NM) };
-    let light_layout = tracer.splat_layout(&layout);
-    let sequence = LightPathSequence::new(seed);
-    let per_thread = paths.div_ceil(THREADS as u64);
-    let splats: Vec<Splats> = std::thread::scope(|scope| {
-        let workers: Vec<_> = (0..THREADS as u64)
-            .map(|t| {
-                let (tracer, sequence) = (&tracer, &sequence);
-                let range = (t * per_thread).min(paths)..((t + 1) * per_thread).min(paths);
-                scope.spawn(move || {
-                    let (mut splats, mut scratch, mut stats) =
-                        (Splats::default(), Scratch::<SampledSpectrum>::default(), TraceStats::default());
-                    for mut rng in sequence.paths(range) {
-                        tracer.trace_path::<SampledSpectrum>(
-                            &mut rng,
-                            &light_layout,
-                            &mut splats,
-                            &mut scratch,
-                            &mut stats,
-                        );
-                    }
-                    splats
-                })
-            })
-            .collect();
-        workers.into_iter().map(|w| w.join().expect("a light-tracing thread")).collect()
-    });
-    let mut sums = WindowSums::with_light_layout(PixelWindow::full(width, height), layout, light_layout);
-    for part in &splats {
-        assert_eq!(sums.add_splats(part, width), None);
-    }
-    radiance(&sums.film(1, paths, (width, height)))
+    radiance(&adjoint::light_side_film::<SampledSpectrum>(scene, (LAMBDA_NM, None), seed, paths, THREADS))
 }
 
 fn planes(scene: &Scene, data: Vec<f64>) -> Planes {
@@ -298,13 +262,6 @@ fn compare(scene: &Scene, light: [Vec<f64>; 2], camera: [Vec<f64>; 2]) -> Compar
         comparison.rel_mse_excess,
     );
     comparison
-}
-
-/// As `prisma validate`'s default checks for bias: outliers beyond the null at most
-/// [`DEFAULT_MAX_OUTLIER_FRACTION`], |z| of the image means at most [`DEFAULT_MAX_MEAN_Z`].
-fn passes(comparison: &Comparison) -> bool {
-    comparison.outlier_fraction - comparison.null_outlier_fraction <= DEFAULT_MAX_OUTLIER_FRACTION
-        && comparison.mean_z <= DEFAULT_MAX_MEAN_Z
 }
 
 /// The light tracer's connection to the thin lens (a lens point drawn uniformly, the film point
