@@ -99,7 +99,7 @@ fn traced_on_axis_transmission_of_the_coated_double_gauss_is_tmm_s_product() {
         // The uncoated lens transmits less at every wavelength, and is its own Π(1 − R).
         let uncoated = on_axis(&bare, *lambda_nm);
         assert!((uncoated - normal_incidence_transmission(&bare, *lambda_nm)).abs() < TOLERANCE);
-        assert!(traced > uncoated + 0.25, "{lambda_nm} nm: coated {traced}, uncoated {uncoated}");
+        assert!(traced > uncoated + 0.2, "{lambda_nm} nm: coated {traced}, uncoated {uncoated}");
         println!("{lambda_nm} nm: on-axis transmission coated {traced:.6}, uncoated {uncoated:.6}");
     }
 }
