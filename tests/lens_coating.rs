@@ -138,11 +138,17 @@ fn the_trace_uses_tmm_s_amplitudes_at_every_angle() {
     for line in lines {
         let values: Vec<f64> = line.split(',').map(|v| v.parse().expect("number")).collect();
         let (lambda_nm, theta_deg) = (values[column("wavelength_nm")], values[column("theta_deg")]);
-        let f = coated_interface_fresnel(theta_deg.to_radians().cos(), 1.0, 1.5168, &coating, true, lambda_nm);
-        let complex = |name: &str| Complex64::new(values[column(&format!("{name}_re"))], values[column(&format!("{name}_im"))]);
-        for (ours, theirs) in
-            [(f.r_s, complex("r_s")), (f.r_p, complex("r_p")), (f.t_s, complex("t_s")), (f.t_p, complex("t_p"))]
-        {
+        let f =
+            coated_interface_fresnel(theta_deg.to_radians().cos(), 1.0, 1.5168, &coating, true, lambda_nm);
+        let complex = |name: &str| {
+            Complex64::new(values[column(&format!("{name}_re"))], values[column(&format!("{name}_im"))])
+        };
+        for (ours, theirs) in [
+            (f.r_s, complex("r_s")),
+            (f.r_p, complex("r_p")),
+            (f.t_s, complex("t_s")),
+            (f.t_p, complex("t_p")),
+        ] {
             assert!((ours - theirs).norm() < 1e-12, "{line}: {ours} vs {theirs}");
         }
         for (ours, name) in [
@@ -176,7 +182,10 @@ fn a_coated_surface_transmits_alike_from_either_side() {
             let (m, n) = (transmission_mueller(&forward), transmission_mueller(&backward));
             for row in 0..4 {
                 for col in 0..4 {
-                    assert!((m[row][col] - n[row][col]).abs() < 1e-14, "{theta_deg}° {lambda_nm} nm: {m:?} vs {n:?}");
+                    assert!(
+                        (m[row][col] - n[row][col]).abs() < 1e-14,
+                        "{theta_deg}° {lambda_nm} nm: {m:?} vs {n:?}"
+                    );
                 }
             }
             assert!((forward.reflectance() - backward.reflectance()).abs() < 1e-14);
@@ -224,7 +233,10 @@ fn the_coated_file_is_the_bare_lens_plus_coatings() {
     let coated = read_lens_file(&lens_file("dgauss50_coated.dat")).expect("coated");
     let bare = read_lens_file(&lens_file("dgauss50.dat")).expect("bare");
     for (c, b) in coated.surfaces.iter().zip(&bare.surfaces) {
-        assert_eq!((c.radius_mm, c.thickness_mm, &c.medium, c.semi_diameter_mm), (b.radius_mm, b.thickness_mm, &b.medium, b.semi_diameter_mm));
+        assert_eq!(
+            (c.radius_mm, c.thickness_mm, &c.medium, c.semi_diameter_mm),
+            (b.radius_mm, b.thickness_mm, &b.medium, b.semi_diameter_mm)
+        );
     }
     // Coated exactly where air meets glass.
     for (index, surface) in coated.surfaces.iter().enumerate() {
@@ -249,7 +261,8 @@ fn bad_coatings_are_one_line_and_exit_2() {
     ];
     for (name, token, expected) in cases {
         let path = dir.path().join(name);
-        std::fs::write(&path, format!("# a singlet\n50 5 1.5168 20 N-BK7 {token}\n-50 1 1 20\n0 40 0 10\n")).expect("write");
+        std::fs::write(&path, format!("# a singlet\n50 5 1.5168 20 N-BK7 {token}\n-50 1 1 20\n0 40 0 10\n"))
+            .expect("write");
         let output = prisma().arg("lens").arg(&path).output().expect("runs");
         let stderr = String::from_utf8_lossy(&output.stderr);
         assert_eq!(output.status.code(), Some(2), "{name}: {stderr}");

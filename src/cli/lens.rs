@@ -15,7 +15,8 @@ use clap::Args;
 use super::plot::{check_plot_path, encode_chart_grid, palette, LegendPlace, Marker, Panel, Series, Style};
 use super::{output_error, say, CliError};
 use prisma::lens::analysis::{
-    coated_normal_incidence_transmission, normal_incidence_transmission, Analysis, Illumination, Spot, FRAUNHOFER_FDC_NM,
+    coated_normal_incidence_transmission, normal_incidence_transmission, Analysis, Illumination, Spot,
+    FRAUNHOFER_FDC_NM,
 };
 use prisma::lens::{read_lens_file, LensSystem, LAMBDA_D_NM};
 use prisma::output::file::{text_into, write_file};

@@ -129,7 +129,8 @@ impl Coating {
             return Err(format!("{} layers: at most {MAX_LAYERS}", self.layers.len()));
         }
         for (index, layer) in self.layers.iter().enumerate() {
-            check_thickness(layer.thickness_nm).map_err(|message| format!("layer {}: {message}", index + 1))?;
+            check_thickness(layer.thickness_nm)
+                .map_err(|message| format!("layer {}: {message}", index + 1))?;
             let mut lambda_nm = range_nm.0;
             while lambda_nm <= range_nm.1 {
                 let n = layer.medium.n_at_nm(lambda_nm);
@@ -176,7 +177,11 @@ pub fn named_ar() -> Coating {
 fn mgf2() -> Medium {
     Medium::Glass {
         name: format!("MgF2 (n={MGF2_INDEX})"),
-        formula: crate::optics::dispersion::DispersionFormula::Cauchy { a: MGF2_INDEX, b_um2: 0.0, c_um4: 0.0 },
+        formula: crate::optics::dispersion::DispersionFormula::Cauchy {
+            a: MGF2_INDEX,
+            b_um2: 0.0,
+            c_um4: 0.0,
+        },
     }
 }
 
@@ -200,7 +205,9 @@ pub fn parse_coating_spec(spec: &str) -> Result<Coating, String> {
     let layers = spec
         .split('/')
         .enumerate()
-        .map(|(index, layer)| parse_layer(layer).map_err(|message| format!("layer {} \"{layer}\": {message}", index + 1)))
+        .map(|(index, layer)| {
+            parse_layer(layer).map_err(|message| format!("layer {} \"{layer}\": {message}", index + 1))
+        })
         .collect::<Result<Vec<_>, _>>()?;
     Ok(Coating { name: spec.to_owned(), layers })
 }
@@ -208,7 +215,9 @@ pub fn parse_coating_spec(spec: &str) -> Result<Coating, String> {
 /// One `MATERIAL@THICKNESS` layer.
 fn parse_layer(text: &str) -> Result<CoatingLayer, String> {
     let Some((material, thickness)) = text.rsplit_once('@') else {
-        return Err("expected MATERIAL@THICKNESS (thickness in nm, or qwL for a quarter wave at L nm)".to_owned());
+        return Err(
+            "expected MATERIAL@THICKNESS (thickness in nm, or qwL for a quarter wave at L nm)".to_owned()
+        );
     };
     let medium = if material.eq_ignore_ascii_case("mgf2") {
         mgf2()
@@ -218,7 +227,8 @@ fn parse_layer(text: &str) -> Result<CoatingLayer, String> {
         }
         Medium::constant(n)
     } else {
-        let medium = parse_glass_spec(material).map_err(|message| format!("material: {message}; or MgF2, or a constant index"))?;
+        let medium = parse_glass_spec(material)
+            .map_err(|message| format!("material: {message}; or MgF2, or a constant index"))?;
         if medium == Medium::Air {
             return Err("material: a layer of air is no coating".to_owned());
         }

@@ -299,9 +299,9 @@ impl LensSystem {
                 lambda_nm += 1.0;
             }
             if let Some(coating) = &surface.coating {
-                coating
-                    .check(VALIDATE_RANGE_NM)
-                    .map_err(|message| error(format!("{}: coating {}: {message}", describe(index), coating.name)))?;
+                coating.check(VALIDATE_RANGE_NM).map_err(|message| {
+                    error(format!("{}: coating {}: {message}", describe(index), coating.name))
+                })?;
             }
         }
         Ok(())

@@ -33,8 +33,8 @@
 use glam::DVec3;
 
 use super::fresnel_stack::{
-    camera_stokes_x, coated_interface_fresnel, interface_fresnel, mueller_mul, reflection_mueller, rotation_mueller, s_axis,
-    transmission_mueller, InterfaceFresnel, Mueller4, MUELLER_IDENTITY,
+    camera_stokes_x, coated_interface_fresnel, interface_fresnel, mueller_mul, reflection_mueller,
+    rotation_mueller, s_axis, transmission_mueller, InterfaceFresnel, Mueller4, MUELLER_IDENTITY,
 };
 use super::surface_geometry::{intersect, within_aperture};
 use super::LensSystem;
@@ -321,9 +321,14 @@ impl LensTracer {
             let cos_i = cos_signed.abs().min(1.0);
             let fresnel = match &surface.coating {
                 None => interface_fresnel(cos_i, n_in, n_other),
-                Some(coating) => {
-                    coated_interface_fresnel(cos_i, n_in, n_other, coating, heading == Heading::ToImage, lambda_nm)
-                }
+                Some(coating) => coated_interface_fresnel(
+                    cos_i,
+                    n_in,
+                    n_other,
+                    coating,
+                    heading == Heading::ToImage,
+                    lambda_nm,
+                ),
             };
             let reflect = if reflections < budget && fresnel.reflectance() > 0.0 {
                 next_uniform() < fresnel.reflectance()

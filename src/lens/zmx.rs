@@ -27,13 +27,13 @@
 //!
 //! `COAT NAME` coats the surface with a coating of the names prisma defines ([`read_coat`]):
 //! `AR`, one quarter-wave layer of MgF₂ (n = 1.38) at 550 nm ([`super::coating::named_ar`]),
-//! the single-layer anti-reflection coating of OpticStudio's sample coating file `COATING.DAT`
-//! (an MgF₂ layer of quarter-wave optical thickness; OpticStudio takes the quarter wave at the
-//! lens's primary wavelength, prisma at 550 nm for every lens), oriented as OpticStudio orients
-//! a coating (air side first, [`super::coating`]). A `COAT` line without a name is an uncoated
-//! surface. Any other name is an error naming the line: its layers are in a coating file prisma
-//! does not read, and reading the surface bare would brighten the lens and its ghosts
-//! unnoticed.
+//! oriented as OpticStudio orients a coating (air side first, [`super::coating`]). This is
+//! prisma's definition, not a copy of OpticStudio's: its sample coating file `COATING.DAT` also
+//! has an `AR`, a single MgF₂ layer, but gives MgF₂ by a table of indices (1.38387 at 0.4 µm to
+//! 1.37608 at 0.7 µm) and states layer thicknesses relative to the lens's wavelengths, so the two
+//! differ a little (data/lenses/README.md). A `COAT` line without a name is an uncoated surface.
+//! Any other name is an error naming the line: its layers are in a coating file prisma does not
+//! read, and reading the surface bare would brighten the lens and its ghosts unnoticed.
 
 use std::path::Path;
 
@@ -118,7 +118,8 @@ pub fn parse_zmx(text: &str, source: &Path) -> Result<LensSystem, LensError> {
         let args: Vec<&str> = fields.collect();
         read_keyword(keyword, &args, line, &mut raw).map_err(|message| line_error(line, message))?;
     }
-    let mut system = LensSystem { surfaces: assemble(&raw, &line_error, &file)?, source: source.to_path_buf() };
+    let mut system =
+        LensSystem { surfaces: assemble(&raw, &line_error, &file)?, source: source.to_path_buf() };
     orient_file_coatings(&mut system);
     system.validate()?;
     Ok(system)
@@ -312,7 +313,10 @@ fn assemble(
             return Err(line_error(line, format!("STOP: the {role} surface cannot be the aperture stop")));
         }
         if let Some((_, line)) = surface.coating {
-            return Err(line_error(line, format!("COAT: the {role} surface is not a lens surface and takes no coating")));
+            return Err(line_error(
+                line,
+                format!("COAT: the {role} surface is not a lens surface and takes no coating"),
+            ));
         }
     }
     if image.curvature != 0.0 || image.surface_type != SurfaceType::Standard {
@@ -499,7 +503,10 @@ mod tests {
         assert_eq!(line, 22);
         assert!(message.starts_with("COAT I.99: unknown coating"), "{message}");
         let (line, message) = line_error(&singlet_with("SURF 4\n", "SURF 4\n  COAT AR\n"));
-        assert_eq!((line, message.as_str()), (30, "COAT: the image surface is not a lens surface and takes no coating"));
+        assert_eq!(
+            (line, message.as_str()),
+            (30, "COAT: the image surface is not a lens surface and takes no coating")
+        );
     }
 
     #[test]
