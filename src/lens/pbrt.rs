@@ -340,4 +340,37 @@ mod tests {
             "{too_wide}"
         );
     }
+
+    #[test]
+    fn coat_tokens_coat_the_surface_facing_the_air() {
+        use crate::lens::coating::named_ar;
+        let system = parse("50 5 1.5 20 coat=AR\n-50 1 1 20 air coat=MgF2@100/2.05@50\n0 40 0 10\n")
+            .expect("coated singlet");
+        assert_eq!(system.surfaces[0].coating, Some(named_ar()));
+        // Glass to air: the layers written air side first are stored object side first, reversed.
+        let back = system.surfaces[1].coating.as_ref().expect("coated");
+        assert_eq!(back.layers.iter().map(|l| l.thickness_nm).collect::<Vec<_>>(), [50.0, 100.0]);
+        assert_eq!(system.surfaces[2].coating, None);
+        // Without coat= tokens a line reads as before: the same surfaces, uncoated.
+        let bare = parse("50 5 1.5 20\n-50 1 1 20 air\n0 40 0 10\n").expect("bare");
+        for (coated, bare) in system.surfaces.iter().zip(&bare.surfaces) {
+            assert_eq!(Surface { coating: None, ..coated.clone() }, *bare);
+        }
+    }
+
+    #[test]
+    fn misplaced_or_bad_coat_tokens_name_the_field() {
+        assert_eq!(
+            line_error("50 5 coat=AR 1.5 20\n"),
+            (1, "field 3 (coat): \"coat=AR\" must follow the four numbers (and the glass)".to_owned())
+        );
+        assert_eq!(
+            line_error("50 5 1.5 20 coat=AR coat=AR\n"),
+            (1, "a second coat= token \"coat=AR\": give one coating per surface".to_owned())
+        );
+        assert_eq!(
+            line_error("0 40 0 10\n50 5 1.5 20 N-BK7 COAT=MgF2@-1\n"),
+            (2, "field 6 (coat): layer 1 \"MgF2@-1\": thickness -1 nm must be > 0".to_owned())
+        );
+    }
 }
