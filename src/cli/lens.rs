@@ -15,7 +15,8 @@ use clap::Args;
 use super::plot::{check_plot_path, encode_chart_grid, palette, LegendPlace, Marker, Panel, Series, Style};
 use super::{output_error, say, CliError};
 use prisma::lens::analysis::{
-    normal_incidence_transmission, Analysis, Illumination, Spot, FRAUNHOFER_FDC_NM,
+    coated_normal_incidence_transmission, normal_incidence_transmission, Analysis, Illumination, Spot,
+    FRAUNHOFER_FDC_NM,
 };
 use prisma::lens::{read_lens_file, LensSystem, LAMBDA_D_NM};
 use prisma::output::file::{text_into, write_file};
@@ -102,12 +103,22 @@ pub fn run(args: &LensArgs) -> Result<(), CliError> {
     let fields: Vec<f64> = FIELD_FRACTIONS.iter().map(|f| f * max_field_deg).collect();
     let illumination_fields: Vec<f64> = (0..=10).map(|i| 0.1 * i as f64 * max_field_deg).collect();
     let illumination = analysis.illumination(&illumination_fields);
-    say!("\ntransmission, uncoated, no ghosts, d line:");
-    say!(
-        "  on axis {:.6} (traced over the pupil); Π(1 − R) at normal incidence {:.6}",
-        illumination[0].transmission,
-        normal_incidence_transmission(&system, LAMBDA_D_NM)
-    );
+    let bare = normal_incidence_transmission(&system, LAMBDA_D_NM);
+    if system.surfaces.iter().any(|s| s.coating.is_some()) {
+        say!("\ntransmission, with the coatings, no ghosts, d line:");
+        say!(
+            "  on axis {:.6} (traced over the pupil); Π(1 − R) at normal incidence {:.6} with the coatings \
+             (R of each stack), {bare:.6} uncoated",
+            illumination[0].transmission,
+            coated_normal_incidence_transmission(&system, LAMBDA_D_NM)
+        );
+    } else {
+        say!("\ntransmission, uncoated, no ghosts, d line:");
+        say!(
+            "  on axis {:.6} (traced over the pupil); Π(1 − R) at normal incidence {bare:.6}",
+            illumination[0].transmission
+        );
+    }
     say!("  field (deg)  image height (mm)  relative illumination  with Fresnel  transmission");
     for row in &illumination {
         say!(
@@ -154,18 +165,24 @@ pub fn run(args: &LensArgs) -> Result<(), CliError> {
 
 fn print_surfaces(system: &LensSystem) {
     say!("{}: {} surfaces, object side first (mm)", system.source.display(), system.surfaces.len());
-    say!("  #   radius        thickness    medium behind        n_d        semi-diameter");
+    say!("  #   radius        thickness    medium behind        n_d        semi-diameter  stop  coating (air side first as written)");
     for (i, s) in system.surfaces.iter().enumerate() {
         let radius = if s.radius_mm == 0.0 { "flat".to_string() } else { format!("{:.4}", s.radius_mm) };
+        let coating = s.coating.as_ref().map_or(String::new(), |coating| {
+            let n1 = system.medium_before(i).n_at_nm(LAMBDA_D_NM);
+            let r = coating.normal_reflectance(n1, s.medium.n_at_nm(LAMBDA_D_NM), LAMBDA_D_NM);
+            format!("{} (R {:.3} % at normal incidence, d line)", coating.name, 100.0 * r)
+        });
         say!(
-            "  {:<3} {:>12} {:>12.4}    {:<18} {:>9.6}  {:>10.4}{}",
+            "  {:<3} {:>12} {:>12.4}    {:<18} {:>9.6}  {:>10.4}     {:<4}  {}",
             i + 1,
             radius,
             s.thickness_mm,
             s.medium.name(),
             s.medium.n_at_nm(LAMBDA_D_NM),
             s.semi_diameter_mm,
-            if s.is_stop { "  stop" } else { "" }
+            if s.is_stop { "stop" } else { "" },
+            coating
         );
     }
 }

@@ -1,5 +1,6 @@
 //! What an optical engineer checks first of a lens, beyond its paraxial numbers: spot diagrams
-//! per wavelength and field, the chief ray, the on-axis transmission against Π(1 − R), and the
+//! per wavelength and field, the chief ray, the on-axis transmission against Π(1 − R) (with and
+//! without the surfaces' coatings), and the
 //! relative illumination and transmission across the field. `prisma lens` prints and plots
 //! them.
 //!
@@ -16,7 +17,7 @@
 //!   stratified grid of [`ExitPupilBounds`] targets at the image height of each field's chief
 //!   ray: relative illumination E(θ)/E(0) with the lens lossless (vignetting, cos⁴, pupil
 //!   distortion), and the transmission ∫τ·w / ∫w (Fresnel losses, exact s/p per surface through
-//!   the path's Mueller matrix, no ghosts).
+//!   the path's Mueller matrix, a coated surface's from its stack, no ghosts).
 
 use glam::DVec3;
 
@@ -252,9 +253,27 @@ impl Analysis {
     }
 }
 
-/// The on-axis transmission of an uncoated lens at normal incidence, Π(1 − R) with
-/// R = ((n₁ − n₂)/(n₁ + n₂))² at every surface, at `lambda_nm`: the closed form the traced
-/// on-axis transmission tends to as the aperture closes.
+/// The on-axis transmission of the lens with its coatings at normal incidence, Π(1 − R) with
+/// R the coating stack's reflectance at normal incidence on a coated surface
+/// ([`super::coating::Coating::normal_reflectance`]) and ((n₁ − n₂)/(n₁ + n₂))² on a bare one,
+/// at `lambda_nm`: what the traced on-axis transmission tends to as the aperture closes. Equal
+/// to [`normal_incidence_transmission`] for an uncoated lens.
+pub fn coated_normal_incidence_transmission(system: &LensSystem, lambda_nm: f64) -> f64 {
+    (0..system.surfaces.len())
+        .map(|i| {
+            let n1 = system.medium_before(i).n_at_nm(lambda_nm);
+            let n2 = system.surfaces[i].medium.n_at_nm(lambda_nm);
+            match &system.surfaces[i].coating {
+                Some(coating) => 1.0 - coating.normal_reflectance(n1, n2, lambda_nm),
+                None => 1.0 - ((n1 - n2) / (n1 + n2)).powi(2),
+            }
+        })
+        .product()
+}
+
+/// The on-axis transmission of the lens without its coatings at normal incidence, Π(1 − R)
+/// with R = ((n₁ − n₂)/(n₁ + n₂))² at every surface, at `lambda_nm`: the closed form the traced
+/// on-axis transmission of an uncoated lens tends to as the aperture closes.
 pub fn normal_incidence_transmission(system: &LensSystem, lambda_nm: f64) -> f64 {
     (0..system.surfaces.len())
         .map(|i| {

@@ -120,6 +120,36 @@ pub fn interface_fresnel(cos_theta_i: f64, n_i: f64, n_t: f64) -> InterfaceFresn
     }
 }
 
+/// The Fresnel coefficients of an interface from index `n_i` to `n_t` carrying `coating`, for
+/// a ray at the unsigned cosine `cos_theta_i` in [0, 1] and vacuum wavelength `lambda_nm` (nm),
+/// travelling toward the image (`toward_image`, the layers crossed as listed) or the object:
+/// the stack's amplitudes and powers ([`super::coating::Coating::amplitudes`]), with the
+/// refraction angle and total internal reflection of the bare interface (the layers are thin
+/// and parallel: n sin θ carries through them). The stack's t_s and t_p share the bare flux
+/// factor n_t cos θt / (n_i cos θi), which [`transmission_mueller`] recovers as T_s/|t_s|².
+pub fn coated_interface_fresnel(
+    cos_theta_i: f64,
+    n_i: f64,
+    n_t: f64,
+    coating: &super::coating::Coating,
+    toward_image: bool,
+    lambda_nm: f64,
+) -> InterfaceFresnel {
+    let bare = interface_fresnel(cos_theta_i, n_i, n_t);
+    let stack = coating.amplitudes(toward_image, n_i, n_t, lambda_nm, cos_theta_i.clamp(0.0, 1.0));
+    InterfaceFresnel {
+        r_s: stack.r_s,
+        r_p: stack.r_p,
+        t_s: stack.t_s,
+        t_p: stack.t_p,
+        reflectance_s: stack.reflectance_s,
+        reflectance_p: stack.reflectance_p,
+        transmittance_s: stack.transmittance_s,
+        transmittance_p: stack.transmittance_p,
+        ..bare
+    }
+}
+
 /// A 4×4 Mueller matrix, row-major, acting on (S0, S1, S2, S3).
 pub type Mueller4 = [[f64; 4]; 4];
 

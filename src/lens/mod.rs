@@ -19,9 +19,11 @@
 //! [`surface_geometry`] (sag, ray–surface hits, normals), [`fresnel_stack`] (f64 Fresnel and
 //! path Mueller matrices), [`trace`] (real rays both ways, ghost branches), [`pupil`] (aiming
 //! camera rays and the radiometric weight), [`file`] with [`pbrt`] and [`zmx`] (reading
-//! prescriptions; [`glass_spec`] for a pbrt file's glass column).
+//! prescriptions; [`glass_spec`] for a pbrt file's glass column; [`coating`] for coated
+//! surfaces).
 
 pub mod analysis;
+pub mod coating;
 pub mod file;
 pub mod fresnel_stack;
 pub mod glass_spec;
@@ -33,6 +35,7 @@ pub mod surface_geometry;
 pub mod trace;
 pub mod zmx;
 
+pub use coating::Coating;
 pub use file::read_lens_file;
 pub use fresnel_stack::{interface_fresnel, InterfaceFresnel, Mueller4};
 pub use paraxial::{Paraxial, LAMBDA_D_NM};

@@ -19,15 +19,20 @@
 //! glass's n_d within 0.01 (else the glass is probably not the designer's). Without it the medium
 //! has the constant index `eta` ([`Medium::constant`]), or is air for `eta` 0 or 1.
 //!
+//! A `coat=SPEC` token after the numbers (and the glass) coats the surface
+//! ([`super::coating`]: `coat=AR`, or layers `MATERIAL@THICKNESS_NM` separated by `/`, air side
+//! first). pbrt-v4 does not read it; a line without it reads exactly as before.
+//!
 //! ```text
 //! # radius  thickness  eta    aperture  glass
-//! 51.68     5.0        1.517  25.0      N-BK7
-//! -51.68    2.0        1      25.0
+//! 51.68     5.0        1.517  25.0      N-BK7  coat=AR
+//! -51.68    2.0        1      25.0             coat=MgF2@qw550
 //! 0         45.0       0      20.0
 //! ```
 
 use std::path::Path;
 
+use super::coating::{orient_file_coatings, parse_coating_spec, Coating};
 use super::glass_spec::parse_glass_spec;
 use super::{LensError, LensSystem, Medium, Surface};
 use crate::optics::dispersion::LAMBDA_D_NM;
@@ -61,6 +66,7 @@ pub fn parse_pbrt(text: &str, source: &Path) -> Result<LensSystem, LensError> {
         surfaces.push(parse_surface(content, line).map_err(line_error)?);
     }
     let mut system = LensSystem { surfaces, source: source.to_path_buf() };
+    orient_file_coatings(&mut system);
     let Some(last) = system.surfaces.len().checked_sub(1) else { return system.validate().map(|()| system) };
     if system.surfaces[last].thickness_mm != 0.0 {
         return system.validate().map(|()| system);
@@ -87,7 +93,23 @@ pub fn parse_pbrt(text: &str, source: &Path) -> Result<LensSystem, LensError> {
 
 /// One line's surface, or the message naming the column that is wrong.
 fn parse_surface(content: &str, line: usize) -> Result<Surface, String> {
-    let fields: Vec<&str> = content.split_whitespace().collect();
+    let mut fields: Vec<&str> = content.split_whitespace().collect();
+    let coating = match fields.iter().position(|field| is_coat_token(field)) {
+        None => None,
+        Some(position) => {
+            let token = fields.remove(position);
+            if position < 4 {
+                return Err(format!(
+                    "field {} (coat): \"{token}\" must follow the four numbers (and the glass)",
+                    position + 1
+                ));
+            }
+            if let Some(second) = fields.iter().find(|field| is_coat_token(field)) {
+                return Err(format!("a second coat= token \"{second}\": give one coating per surface"));
+            }
+            Some(coating_column(token, position + 1)?)
+        }
+    };
     if fields.len() < 4 {
         return Err(format!(
             "{} columns, expected 4 (radius thickness eta aperture_diameter, mm) and an optional glass: \
@@ -151,8 +173,23 @@ fn parse_surface(content: &str, line: usize) -> Result<Surface, String> {
         medium,
         semi_diameter_mm: aperture_mm / 2.0,
         is_stop: radius_mm == 0.0,
+        coating,
         line,
     })
+}
+
+/// Whether a field is the `coat=` token.
+fn is_coat_token(field: &str) -> bool {
+    field.get(..5).is_some_and(|prefix| prefix.eq_ignore_ascii_case("coat="))
+}
+
+/// The coating of a `coat=SPEC` token at 1-based field `position`, checked as
+/// [`LensSystem::validate`] would.
+fn coating_column(token: &str, position: usize) -> Result<Coating, String> {
+    let coating = parse_coating_spec(&token[5..])
+        .and_then(|coating| coating.check(super::prescription::VALIDATE_RANGE_NM).map(|()| coating))
+        .map_err(|message| format!("field {position} (coat): {message}"))?;
+    Ok(coating)
 }
 
 /// The paraxial back focal distance (mm, from the last vertex) at `lambda_nm` for an object at
@@ -301,6 +338,39 @@ mod tests {
         assert!(
             too_wide.starts_with("surface 1 (line 1): semi-diameter 10 mm is beyond the surface's edge"),
             "{too_wide}"
+        );
+    }
+
+    #[test]
+    fn coat_tokens_coat_the_surface_facing_the_air() {
+        use crate::lens::coating::named_ar;
+        let system = parse("50 5 1.5 20 coat=AR\n-50 1 1 20 air coat=MgF2@100/2.05@50\n0 40 0 10\n")
+            .expect("coated singlet");
+        assert_eq!(system.surfaces[0].coating, Some(named_ar()));
+        // Glass to air: the layers written air side first are stored object side first, reversed.
+        let back = system.surfaces[1].coating.as_ref().expect("coated");
+        assert_eq!(back.layers.iter().map(|l| l.thickness_nm).collect::<Vec<_>>(), [50.0, 100.0]);
+        assert_eq!(system.surfaces[2].coating, None);
+        // Without coat= tokens a line reads as before: the same surfaces, uncoated.
+        let bare = parse("50 5 1.5 20\n-50 1 1 20 air\n0 40 0 10\n").expect("bare");
+        for (coated, bare) in system.surfaces.iter().zip(&bare.surfaces) {
+            assert_eq!(Surface { coating: None, ..coated.clone() }, *bare);
+        }
+    }
+
+    #[test]
+    fn misplaced_or_bad_coat_tokens_name_the_field() {
+        assert_eq!(
+            line_error("50 5 coat=AR 1.5 20\n"),
+            (1, "field 3 (coat): \"coat=AR\" must follow the four numbers (and the glass)".to_owned())
+        );
+        assert_eq!(
+            line_error("50 5 1.5 20 coat=AR coat=AR\n"),
+            (1, "a second coat= token \"coat=AR\": give one coating per surface".to_owned())
+        );
+        assert_eq!(
+            line_error("0 40 0 10\n50 5 1.5 20 N-BK7 COAT=MgF2@-1\n"),
+            (2, "field 6 (coat): layer 1 \"MgF2@-1\": thickness -1 nm must be > 0".to_owned())
         );
     }
 }

@@ -3,6 +3,7 @@
 
 use std::path::PathBuf;
 
+use super::coating::Coating;
 use crate::optics::dispersion::DispersionFormula;
 
 /// The medium behind a surface (on its image side).
@@ -67,6 +68,9 @@ pub struct Surface {
     pub semi_diameter_mm: f64,
     /// Whether this surface is the aperture stop.
     pub is_stop: bool,
+    /// The coating between the media before and after the surface, if any
+    /// ([`super::coating`]); `None`: the bare interface.
+    pub coating: Option<Coating>,
     /// The 1-based line of the prescription file that defines it (0 when built in code), for
     /// error messages.
     pub line: usize,
@@ -90,6 +94,7 @@ impl Surface {
             medium,
             semi_diameter_mm,
             is_stop,
+            coating: None,
             line: 0,
         }
     }
@@ -183,7 +188,8 @@ impl LensSystem {
     /// sphere, ≤ |R|); no two surfaces crossing within their common clear aperture (each pair's
     /// sags compared at radii up to the smaller semi-diameter, so a thickness too small for the
     /// elements' sags is caught, not only a negative one); the image plane behind the last
-    /// vertex; every index finite and ≥ 1 from 360 to 830 nm (sampled every 1 nm).
+    /// vertex; every index finite and ≥ 1 from 360 to 830 nm (sampled every 1 nm), coating
+    /// layers' included, and every coating within its limits ([`Coating::check`]).
     ///
     /// # Errors
     /// [`LensError::System`] naming the surfaces by number (1-based, object side first) and the
@@ -291,6 +297,11 @@ impl LensSystem {
                     )));
                 }
                 lambda_nm += 1.0;
+            }
+            if let Some(coating) = &surface.coating {
+                coating.check(VALIDATE_RANGE_NM).map_err(|message| {
+                    error(format!("{}: coating {}: {message}", describe(index), coating.name))
+                })?;
             }
         }
         Ok(())

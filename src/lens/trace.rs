@@ -2,7 +2,8 @@
 //! surface, each surface met on its vertex patch ([`super::surface_geometry`]), blocked
 //! outside its clear semi-diameter, refracted by Snell's law in vector form (Glassner, *An
 //! Introduction to Ray Tracing*, §5.2; the residual n(d × N) = n′(d′ × N) is tested) or, for
-//! ghosts, reflected, with the exact s/p Fresnel coefficients of [`super::fresnel_stack`].
+//! ghosts, reflected, with the exact s/p Fresnel coefficients of [`super::fresnel_stack`] (a
+//! coated surface's from its stack, [`super::coating`]).
 //!
 //! Two directions of travel:
 //! - [`LensTracer::trace_from_object`]: a ray from object space (z < 0, toward +z) to the image
@@ -32,8 +33,8 @@
 use glam::DVec3;
 
 use super::fresnel_stack::{
-    camera_stokes_x, interface_fresnel, mueller_mul, reflection_mueller, rotation_mueller, s_axis,
-    transmission_mueller, InterfaceFresnel, Mueller4, MUELLER_IDENTITY,
+    camera_stokes_x, coated_interface_fresnel, interface_fresnel, mueller_mul, reflection_mueller,
+    rotation_mueller, s_axis, transmission_mueller, InterfaceFresnel, Mueller4, MUELLER_IDENTITY,
 };
 use super::surface_geometry::{intersect, within_aperture};
 use super::LensSystem;
@@ -318,7 +319,17 @@ impl LensTracer {
             let cos_signed = hit.normal.dot(ray.dir);
             let facing = if cos_signed < 0.0 { hit.normal } else { -hit.normal };
             let cos_i = cos_signed.abs().min(1.0);
-            let fresnel = interface_fresnel(cos_i, n_in, n_other);
+            let fresnel = match &surface.coating {
+                None => interface_fresnel(cos_i, n_in, n_other),
+                Some(coating) => coated_interface_fresnel(
+                    cos_i,
+                    n_in,
+                    n_other,
+                    coating,
+                    heading == Heading::ToImage,
+                    lambda_nm,
+                ),
+            };
             let reflect = if reflections < budget && fresnel.reflectance() > 0.0 {
                 next_uniform() < fresnel.reflectance()
             } else {

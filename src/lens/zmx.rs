@@ -22,12 +22,22 @@
 //! Keywords that change the optics in ways not modelled here are errors naming the line and the
 //! keyword ([`UNSUPPORTED`], other surface `TYPE`s, `GLAS MIRROR`, a non-zero `PARM` on a
 //! `STANDARD` surface, a curved image surface). Bookkeeping keywords ([`IGNORED`]: names, notes,
-//! wavelengths, fields, pupil settings, drawing and tolerancing data, coatings — every surface is
-//! read uncoated) are skipped. Any other keyword is an error: prisma cannot tell whether it
-//! changes the optics.
+//! wavelengths, fields, pupil settings, drawing and tolerancing data) are skipped. Any other
+//! keyword is an error: prisma cannot tell whether it changes the optics.
+//!
+//! `COAT NAME` coats the surface with a coating of the names prisma defines ([`read_coat`]):
+//! `AR`, one quarter-wave layer of MgF₂ (n = 1.38) at 550 nm ([`super::coating::named_ar`]),
+//! oriented as OpticStudio orients a coating (air side first, [`super::coating`]). This is
+//! prisma's definition, not a copy of OpticStudio's: its sample coating file `COATING.DAT` also
+//! has an `AR`, a single MgF₂ layer, but gives MgF₂ by a table of indices (1.38387 at 0.4 µm to
+//! 1.37608 at 0.7 µm) and states layer thicknesses relative to the lens's wavelengths, so the two
+//! differ a little (data/lenses/README.md). A `COAT` line without a name is an uncoated surface.
+//! Any other name is an error naming the line: its layers are in a coating file prisma does not
+//! read, and reading the surface bare would brighten the lens and its ghosts unnoticed.
 
 use std::path::Path;
 
+use super::coating::{named_ar, orient_file_coatings, Coating, NAMED_AR};
 use super::glass_spec::{abbe_formula, catalogue_medium, unknown_glass_message};
 use super::{LensError, LensSystem, Medium, Surface};
 use crate::optics::dispersion::LAMBDA_D_NM;
@@ -40,7 +50,7 @@ pub const GLAS_ND_TOLERANCE: f64 = 0.01;
 /// symmetric lens. They are system data, wavelengths and fields, pupil and ray-aiming settings,
 /// optimisation, tolerancing and multi-configuration data, solve, pickup and variable flags (the
 /// values they set are stored in the surface data), drawing data such as `MIRR` (the mirror
-/// *substrate* drawn, written on every surface; a mirror is `GLAS MIRROR`), and coatings.
+/// *substrate* drawn, written on every surface; a mirror is `GLAS MIRROR`).
 pub const IGNORED: &[&str] = &[
     "VERS", "MODE", "NAME", "NOTE", "PFIL", "LANG", "ENPD", "ENVD", "FNUM", "OBNA", "FLOA", "FTYP", "WAVL",
     "WAVM", "WAVN", "WWGT", "WWGN", "PWAV", "GCAT", "GFAC", "GLRS", "GSTD", "RAIM", "PUPD", "PUSH", "SDMA",
@@ -48,7 +58,7 @@ pub const IGNORED: &[&str] = &[
     "ZVDX", "ZVDY", "ZVCX", "ZVCY", "ZVAN", "OPDX", "EFFL", "COFN", "NSCD", "BLNK", "TOL", "TOLE", "MNUM",
     "MOFF", "CONF", "DMFS", "ISNA", "VDSZ", "MNCA", "MNEA", "MNCG", "MNEG", "MXCA", "MXCG", "RGLA", "TRAC",
     "TCMM", "PMAG", "TOTR", "POLS", "TCED", "HIDE", "MIRR", "SLAB", "POPS", "COMM", "FLAP", "MEMA", "FIMP",
-    "PZUP", "COAT", "PKUP", "PPAR", "VPAR", "VCON",
+    "PZUP", "PKUP", "PPAR", "VPAR", "VCON",
 ];
 
 /// Keywords that change the optics in ways prisma does not model: decentres and tilts,
@@ -87,6 +97,8 @@ struct RawSurface {
     semi_diameter_mm: Option<f64>,
     stop_line: Option<usize>,
     glass_line: Option<usize>,
+    /// The coating and the line of its `COAT`.
+    coating: Option<(Coating, usize)>,
 }
 
 /// Parses and [validates](LensSystem::validate) the text of a Zemax `.zmx` file read from
@@ -106,7 +118,9 @@ pub fn parse_zmx(text: &str, source: &Path) -> Result<LensSystem, LensError> {
         let args: Vec<&str> = fields.collect();
         read_keyword(keyword, &args, line, &mut raw).map_err(|message| line_error(line, message))?;
     }
-    let system = LensSystem { surfaces: assemble(&raw, &line_error, &file)?, source: source.to_path_buf() };
+    let mut system =
+        LensSystem { surfaces: assemble(&raw, &line_error, &file)?, source: source.to_path_buf() };
+    orient_file_coatings(&mut system);
     system.validate()?;
     Ok(system)
 }
@@ -146,10 +160,11 @@ fn read_keyword(keyword: &str, args: &[&str], line: usize, raw: &mut Vec<RawSurf
                 semi_diameter_mm: None,
                 stop_line: None,
                 glass_line: None,
+                coating: None,
             });
             Ok(())
         }
-        "TYPE" | "CURV" | "CONI" | "PARM" | "DISZ" | "GLAS" | "DIAM" | "STOP" => {
+        "TYPE" | "CURV" | "CONI" | "PARM" | "DISZ" | "GLAS" | "DIAM" | "STOP" | "COAT" => {
             let surface_number = raw.len().checked_sub(1);
             let Some(surface) = raw.last_mut() else {
                 return Err(format!("{keyword} before the first SURF"));
@@ -196,6 +211,7 @@ fn read_keyword(keyword: &str, args: &[&str], line: usize, raw: &mut Vec<RawSurf
                     surface.glass_line = Some(line);
                 }
                 "DIAM" => surface.semi_diameter_mm = Some(number(0)?),
+                "COAT" => surface.coating = read_coat(args)?.map(|coating| (coating, line)),
                 _ => surface.stop_line = Some(line),
             }
             Ok(())
@@ -207,6 +223,18 @@ fn read_keyword(keyword: &str, args: &[&str], line: usize, raw: &mut Vec<RawSurf
         _ => Err(format!(
             "unknown keyword {keyword}: prisma reads the .zmx subset listed in scenes/README.md and cannot tell \
              whether {keyword} changes the optics"
+        )),
+    }
+}
+
+/// The coating of a `COAT` line: `None` without a name, `AR` (module header), else an error.
+fn read_coat(args: &[&str]) -> Result<Option<Coating>, String> {
+    match args.first() {
+        None => Ok(None),
+        Some(name) if name.eq_ignore_ascii_case(NAMED_AR) => Ok(Some(named_ar())),
+        Some(name) => Err(format!(
+            "COAT {name}: unknown coating (prisma defines {NAMED_AR}, a quarter-wave MgF2 layer at 550 nm; \
+             other coatings live in a coating file prisma does not read: use {NAMED_AR} or remove the line)"
         )),
     }
 }
@@ -284,6 +312,12 @@ fn assemble(
         if let Some(line) = surface.stop_line {
             return Err(line_error(line, format!("STOP: the {role} surface cannot be the aperture stop")));
         }
+        if let Some((_, line)) = surface.coating {
+            return Err(line_error(
+                line,
+                format!("COAT: the {role} surface is not a lens surface and takes no coating"),
+            ));
+        }
     }
     if image.curvature != 0.0 || image.surface_type != SurfaceType::Standard {
         return Err(line_error(
@@ -338,6 +372,7 @@ fn assemble(
             medium: surface.medium.clone(),
             semi_diameter_mm,
             is_stop: surface.stop_line.is_some(),
+            coating: surface.coating.as_ref().map(|(coating, _)| coating.clone()),
             line: surface.line,
         });
     }
@@ -454,6 +489,23 @@ mod tests {
         );
         assert!(
             message.ends_with("a glass outside it needs n_d and V_d in fields 4 and 5 (GLAS NAME 1 0 nd vd)")
+        );
+    }
+
+    #[test]
+    fn coat_ar_coats_the_surface_facing_the_air() {
+        let text = singlet_with("  DISZ 5\n", "  DISZ 5\n  COAT AR\n  COAT\n");
+        assert!(parse(&text).expect("bare").surfaces[1].coating.is_none(), "a nameless COAT is bare");
+        let text = singlet_with("  DISZ 5\n", "  DISZ 5\n  COAT AR\n");
+        let system = parse(&text).expect("AR");
+        assert_eq!(system.surfaces[1].coating, Some(named_ar()));
+        let (line, message) = line_error(&singlet_with("  DISZ 5\n", "  DISZ 5\n  COAT I.99\n"));
+        assert_eq!(line, 22);
+        assert!(message.starts_with("COAT I.99: unknown coating"), "{message}");
+        let (line, message) = line_error(&singlet_with("SURF 4\n", "SURF 4\n  COAT AR\n"));
+        assert_eq!(
+            (line, message.as_str()),
+            (30, "COAT: the image surface is not a lens surface and takes no coating")
         );
     }
 
