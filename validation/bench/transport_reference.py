@@ -177,7 +177,8 @@ def room_references(bench, args):
             "pass_seed_rule": f"pass k of seed s uses mi.render(seed = s*{translate.PASS_SEED_STRIDE} + k)",
             "film": ("specfilm with prisma's CIE table, then prisma's matrix (translate.prisma_rgb)"
                      if bench.mitsuba == "path" else
-                     "hdrfilm (linear sRGB) times Mitsuba's luminance normalisation fix (caustics.y_normalisation_fix)"),
+                     "hdrfilm (linear sRGB) times Mitsuba's luminance normalisation fix "
+                     "(caustics.y_normalisation_fix)"),
             "plane_half_size": "graded",
             "variance_files": "per pixel and channel, the variance of the seed's mean over its passes",
             "renders": renders,
