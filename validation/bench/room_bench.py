@@ -270,8 +270,9 @@ def write_up(args, prisma, bench_scene, results, references, scaling, scaling_sp
             "550 nm: prisma `--integrator path` (max_depth 64 bounces) against Mitsuba's `path` (max_depth 65 "
             "vertices, its default Russian roulette), both through prisma's colour pipeline (Mitsuba's specfilm with "
             "prisma's CIE table, then prisma's matrix). The glass does not disperse, so Mitsuba's one-index dielectric "
-            "renders the same scene; the mirror is Mitsuba's perfect conductor (translate.py). At 75×50, a quarter of the "
-            "case's pixels (same camera), so that the references converge in the time there was. Every pixel counts.",
+            "renders the same scene; the mirror is Mitsuba's perfect conductor (translate.py). At 75×50, a quarter of "
+            "the case's pixels (same camera), so that the references converge in the time there was. Every pixel "
+            "counts.",
             ""]
     else:
         lines += [
@@ -374,9 +375,11 @@ def write_up(args, prisma, bench_scene, results, references, scaling, scaling_sp
                             f"{max(scaling[mode, t][2] for t in (1, 2)):.0f} MiB")
     lines += ["", f"(This Python process's peak resident memory, Mitsuba's renders included: "
               f"{resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0:,.0f} MiB.)", "", end_marker(bench_scene)]
+    extrapolated = any(h.split("**")[-1].startswith("*") for h in headline)
     row = (f"{headline_prefix(bench_scene)}, {bench_scene.width}×{bench_scene.height}, prisma `path` vs Mitsuba 3.9.1 "
            f"`{bench_scene.mitsuba}`, time to equal relMSE | CPU time, against Mitsuba's fastest sampler: "
-           f"{'; '.join(headline)} (* extrapolated); the issue's 3× "
+           f"{'; '.join(headline)}{' (* extrapolated)' if extrapolated else ''}; "
+           f"the issue's 3× "
            f"{'holds on each' if ratios and min(ratios) >= 3 else 'does **not** hold on each'}; "
            f"{'; '.join(scaling_text)} | `{command}` (see its section) | {started} → {finished} |")
     return lines, row
