@@ -28,6 +28,7 @@ Run from the repository root after validation/setup.sh and `cargo build --releas
   validation/.venv/bin/python validation/bench/bench.py --quick    # smaller, for a smoke test
   ... bench.py --skip-rays --modes polarised                          # part of it
   ... bench.py --transport      # full transport only (below); its section of RESULTS.md is replaced
+  ... bench.py --transport-scene room room_point   # the rooms (room_bench.py); their sections replaced
 
 3. --transport: full light transport, TP6 with its quad light (validation/scenes/tp6_quad_path.toml,
    scenes/tp6_quad.toml's scene at 150×100 with `integrator = "path"`, max_depth 64): prisma's
@@ -49,6 +50,13 @@ Run from the repository root after validation/setup.sh and `cargo build --releas
    given in both: on a machine whose cores other processes share, CPU time is the steadier
    measure. --samplers and --max-spp run part of the race (some of Mitsuba's configurations, no
    count above a cap: the long run is skipped when it is above it).
+4. --transport-scene room room_point: the same race on two rooms (validation/bench/room_bench.py,
+   the scenes in transport_scenes.py, the references from transport_reference.py --scene): the
+   glass-and-mirror room (validation/scenes/stokes_room_path.toml, spectral) against Mitsuba's
+   `path` in both modes, and the point-light room (transport_room_point.toml) against Mitsuba's
+   `ptracer` on the pixels where it is complete; each room writes its own section and headline
+   row of RESULTS.md. Mitsuba's renders are cached in validation/bench/mitsuba_cache.json (and
+   mitsuba_cache/), so a re-run with a new prisma renders prisma only (--refresh-mitsuba: all).
 """
 
 import argparse
@@ -640,8 +648,19 @@ def main():
                         help="--transport: only these of Mitsuba's configurations (all by default)")
     parser.add_argument("--max-spp", type=int,
                         help="--transport: no sample count above this, for either renderer (none by default)")
+    parser.add_argument("--transport-scene", nargs="+", choices=["room", "room_point"],
+                        help="full transport on the rooms of transport_scenes.py (room_bench.py): the glass-and-mirror "
+                             "room against Mitsuba's path, the point-light room against its ptracer; replaces their "
+                             "sections and headline rows of --out and leaves the rest of it")
+    parser.add_argument("--refresh-mitsuba", action="store_true",
+                        help="--transport-scene: render Mitsuba again instead of reading mitsuba_cache.json")
     args = parser.parse_args()
     prisma = translate.find_prisma()
+    if args.transport_scene:
+        import room_bench
+
+        room_bench.main(args, prisma)
+        return
     if args.transport:
         lines, summary = transport(args, prisma)
         write_transport_section(args.out, lines)
