@@ -1008,7 +1008,8 @@ fn add_lens_sample<B: PathBeam>(
     let u_pupil = (rng.uniform(), rng.uniform());
     let mut stokes = [SampledSpectrum::zero(); 4];
     for lane in 0..wavelengths.active() {
-        let traced = lens.sample_ray(film.0, film.1, u_pupil, wavelengths.lambda_nm(lane), &mut || {
+        let lambda_nm = wavelengths.lambda_nm(lane);
+        let traced = lens.sample_ray_for(film.0, film.1, u_pupil, lambda_nm, B::POLARIZED, &mut || {
             f64::from(rng.uniform())
         });
         let Some((ray, camera_ray)) = traced else { continue };

@@ -223,8 +223,24 @@ impl LensCamera {
         lambda_nm: f32,
         next_uniform: &mut dyn FnMut() -> f64,
     ) -> Option<(Ray, CameraRay)> {
+        self.sample_ray_for(x, y, u_pupil, lambda_nm, true, next_uniform)
+    }
+
+    /// [`Self::sample_ray`] for a polarised render (`polarized`: the whole Mueller matrix) or an
+    /// unpolarised one (only its row 0 is traced: `sample.mueller`'s rows 1–3 are 0, and
+    /// [`CameraRay::weight`] is the same number).
+    pub fn sample_ray_for(
+        &self,
+        x: f32,
+        y: f32,
+        u_pupil: (f32, f32),
+        lambda_nm: f32,
+        polarized: bool,
+        next_uniform: &mut dyn FnMut() -> f64,
+    ) -> Option<(Ray, CameraRay)> {
         let options = TraceOptions {
             max_ghost_reflections: self.settings.max_ghost_reflections,
+            full_mueller: polarized,
             ..TraceOptions::new(f64::from(lambda_nm))
         };
         let u = [f64::from(u_pupil.0), f64::from(u_pupil.1)];

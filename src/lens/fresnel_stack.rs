@@ -71,6 +71,11 @@ pub fn interface_fresnel(cos_theta_i: f64, n_i: f64, n_t: f64) -> InterfaceFresn
     let sin_t_sqr = (1.0 - cos_i * cos_i) / (eta_it * eta_it);
     let cos_t_sqr = 1.0 - sin_t_sqr;
     let total_internal_reflection = cos_t_sqr < 0.0;
+    if !total_internal_reflection && n_i != n_t {
+        if let Some(real) = real_interface_fresnel(cos_i, eta_it, cos_t_sqr.sqrt()) {
+            return real;
+        }
+    }
     let cos_t = if total_internal_reflection {
         Complex64::new(0.0, -(-cos_t_sqr).sqrt())
     } else {
@@ -120,6 +125,40 @@ pub fn interface_fresnel(cos_theta_i: f64, n_i: f64, n_t: f64) -> InterfaceFresn
     }
 }
 
+/// [`interface_fresnel`] outside total internal reflection, where every coefficient is real,
+/// in real arithmetic: each quotient is written as the complex quotient computes it with zero
+/// imaginary parts (num-complex: (a + 0i)/(c + 0i) = (a·c)/(c·c)), so that the results are the
+/// complex path's to the bit (up to the sign of the zero imaginary parts) at a fraction of its
+/// cost. `None` where a denominator vanishes (the caller's index-matched case).
+#[inline]
+fn real_interface_fresnel(cos_i: f64, eta_it: f64, cos_t: f64) -> Option<InterfaceFresnel> {
+    let denominator_s = cos_i + eta_it * cos_t;
+    let denominator_p = eta_it * cos_i + cos_t;
+    let (norm_s, norm_p) = (denominator_s * denominator_s, denominator_p * denominator_p);
+    if norm_s == 0.0 || norm_p == 0.0 {
+        return None;
+    }
+    let r_s = ((cos_i - eta_it * cos_t) * denominator_s) / norm_s;
+    let r_p = ((eta_it * cos_i - cos_t) * denominator_p) / norm_p;
+    let two_cos_i = 2.0 * cos_i;
+    let t_s = (two_cos_i * denominator_s) / norm_s;
+    let t_p = (two_cos_i * denominator_p) / norm_p;
+    let flux = 4.0 * cos_i * eta_it * cos_t;
+    let real = |value: f64| Complex64::new(value, 0.0);
+    Some(InterfaceFresnel {
+        r_s: real(r_s),
+        r_p: real(r_p),
+        t_s: real(t_s),
+        t_p: real(t_p),
+        reflectance_s: r_s * r_s,
+        reflectance_p: r_p * r_p,
+        transmittance_s: flux / norm_s,
+        transmittance_p: flux / norm_p,
+        cos_theta_t: cos_t,
+        total_internal_reflection: false,
+    })
+}
+
 /// A 4×4 Mueller matrix, row-major, acting on (S0, S1, S2, S3).
 pub type Mueller4 = [[f64; 4]; 4];
 
@@ -157,28 +196,96 @@ pub fn mueller_scaled(matrix: &Mueller4, factor: f64) -> Mueller4 {
 /// b = (|A_x|² − |A_y|²)/2, w = A_x·conj(A_y)), scaled by the flux factor `flux` (for a
 /// transmitted beam, n_t cos θt / (n_i cos θi), so that its (0,0) entry is (T_s + T_p)/2).
 pub fn jones_diagonal(a_x: Complex64, a_y: Complex64, flux: f64) -> Mueller4 {
-    let (power_x, power_y) = (a_x.norm_sqr() * flux, a_y.norm_sqr() * flux);
-    let w = a_x * a_y.conj() * flux;
-    let (a, b) = (0.5 * (power_x + power_y), 0.5 * (power_x - power_y));
-    [[a, b, 0.0, 0.0], [b, a, 0.0, 0.0], [0.0, 0.0, w.re, w.im], [0.0, 0.0, -w.im, w.re]]
+    DiagonalElement::of_jones(a_x, a_y, flux).matrix()
+}
+
+/// The four numbers of a diagonal element's Mueller matrix [[a, b, 0, 0], [b, a, 0, 0],
+/// [0, 0, w_re, w_im], [0, 0, −w_im, w_re]] ([`jones_diagonal`]), so that a path's rows can be
+/// carried through it without the 4×4 product ([`rotate_then_element`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct DiagonalElement {
+    a: f64,
+    b: f64,
+    w_re: f64,
+    w_im: f64,
+}
+
+impl DiagonalElement {
+    /// The element of the diagonal Jones matrix diag(`a_x`, `a_y`) scaled by `flux`, as
+    /// [`jones_diagonal`] describes it.
+    #[inline]
+    fn of_jones(a_x: Complex64, a_y: Complex64, flux: f64) -> Self {
+        let (power_x, power_y) = (a_x.norm_sqr() * flux, a_y.norm_sqr() * flux);
+        let w = a_x * a_y.conj() * flux;
+        Self { a: 0.5 * (power_x + power_y), b: 0.5 * (power_x - power_y), w_re: w.re, w_im: w.im }
+    }
+
+    /// The transmitted beam's element ([`transmission_mueller`]).
+    #[inline]
+    pub(crate) fn transmission(fresnel: &InterfaceFresnel) -> Self {
+        if fresnel.total_internal_reflection {
+            return Self { a: 0.0, b: 0.0, w_re: 0.0, w_im: 0.0 };
+        }
+        // Flux factor: T_s / |t_s|² (the same for p); |t_s| > 0 outside TIR and grazing.
+        let t_s_sqr = fresnel.t_s.norm_sqr();
+        let flux = if t_s_sqr > 0.0 { fresnel.transmittance_s / t_s_sqr } else { 0.0 };
+        Self::of_jones(fresnel.t_s, fresnel.t_p, flux)
+    }
+
+    /// The reflected beam's element ([`reflection_mueller`]).
+    #[inline]
+    pub(crate) fn reflection(fresnel: &InterfaceFresnel) -> Self {
+        Self::of_jones(fresnel.r_s, fresnel.r_p, 1.0)
+    }
+
+    /// Its 4×4 Mueller matrix.
+    fn matrix(&self) -> Mueller4 {
+        let Self { a, b, w_re, w_im } = *self;
+        [[a, b, 0.0, 0.0], [b, a, 0.0, 0.0], [0.0, 0.0, w_re, w_im], [0.0, 0.0, -w_im, w_re]]
+    }
+}
+
+/// cos 2θ and sin 2θ of the Stokes rotation of [`rotation_mueller`] (1 and 0 where it is the
+/// identity).
+#[inline]
+pub(crate) fn rotation_angle(forward: DVec3, from: DVec3, to: DVec3) -> (f64, f64) {
+    let cos_theta = from.dot(to);
+    let sin_theta = forward.dot(from.cross(to));
+    let norm = cos_theta * cos_theta + sin_theta * sin_theta;
+    if norm <= 0.0 {
+        return (1.0, 0.0);
+    }
+    ((cos_theta * cos_theta - sin_theta * sin_theta) / norm, 2.0 * sin_theta * cos_theta / norm)
+}
+
+/// The row vector `row` times the rotation of angle (`cos_2`, `sin_2`) ([`rotation_angle`]),
+/// then times `element`: one row of `mueller_mul(&mueller_mul(path, rotation), element)`,
+/// with the same products summed in the same order (the 4×4 products' other terms are exact
+/// zeros), so the same numbers to the bit, in 12 multiplications instead of 128 for the row.
+#[inline]
+pub(crate) fn rotate_then_element(row: [f64; 4], cos_2: f64, sin_2: f64, element: &DiagonalElement) -> [f64; 4] {
+    let [q0, q1, q2, q3] = rotate_row(row, cos_2, sin_2);
+    let DiagonalElement { a, b, w_re, w_im } = *element;
+    [q0 * a + q1 * b, q0 * b + q1 * a, q2 * w_re + q3 * -w_im, q2 * w_im + q3 * w_re]
+}
+
+/// The row vector `row` times the rotation of angle (`cos_2`, `sin_2`) ([`rotation_angle`]).
+#[inline]
+pub(crate) fn rotate_row(row: [f64; 4], cos_2: f64, sin_2: f64) -> [f64; 4] {
+    let [r0, r1, r2, r3] = row;
+    [r0, r1 * cos_2 + r2 * -sin_2, r1 * sin_2 + r2 * cos_2, r3]
 }
 
 /// The Mueller matrix of the transmitted beam in its s/p frame, with (0,0) = (T_s + T_p)/2:
 /// amplitudes t_s, t_p with the flux factor T/|t|² (real, positive outside total internal
 /// reflection). Zero under total internal reflection.
 pub fn transmission_mueller(fresnel: &InterfaceFresnel) -> Mueller4 {
-    if fresnel.total_internal_reflection {
-        return [[0.0; 4]; 4];
-    }
-    // Flux factor: T_s / |t_s|² (the same for p); |t_s| > 0 outside TIR and grazing.
-    let t_s_sqr = fresnel.t_s.norm_sqr();
-    let flux = if t_s_sqr > 0.0 { fresnel.transmittance_s / t_s_sqr } else { 0.0 };
-    jones_diagonal(fresnel.t_s, fresnel.t_p, flux)
+    DiagonalElement::transmission(fresnel).matrix()
 }
 
 /// The Mueller matrix of the reflected beam in its s/p frame.
 pub fn reflection_mueller(fresnel: &InterfaceFresnel) -> Mueller4 {
-    jones_diagonal(fresnel.r_s, fresnel.r_p, 1.0)
+    DiagonalElement::reflection(fresnel).matrix()
 }
 
 /// The Stokes rotation from x axis `from` to x axis `to` for light travelling along `forward`
@@ -186,14 +293,7 @@ pub fn reflection_mueller(fresnel: &InterfaceFresnel) -> Mueller4 {
 /// S2' = −sin 2θ S1 + cos 2θ S2 with cos θ = from·to, sin θ = forward·(from × to), as
 /// [`crate::polarization::Rotation::between`].
 pub fn rotation_mueller(forward: DVec3, from: DVec3, to: DVec3) -> Mueller4 {
-    let cos_theta = from.dot(to);
-    let sin_theta = forward.dot(from.cross(to));
-    let norm = cos_theta * cos_theta + sin_theta * sin_theta;
-    if norm <= 0.0 {
-        return MUELLER_IDENTITY;
-    }
-    let cos_2 = (cos_theta * cos_theta - sin_theta * sin_theta) / norm;
-    let sin_2 = 2.0 * sin_theta * cos_theta / norm;
+    let (cos_2, sin_2) = rotation_angle(forward, from, to);
     [[1.0, 0.0, 0.0, 0.0], [0.0, cos_2, sin_2, 0.0], [0.0, -sin_2, cos_2, 0.0], [0.0, 0.0, 0.0, 1.0]]
 }
 

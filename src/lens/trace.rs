@@ -32,8 +32,8 @@
 use glam::DVec3;
 
 use super::fresnel_stack::{
-    camera_stokes_x, interface_fresnel, mueller_mul, reflection_mueller, rotation_mueller, s_axis,
-    transmission_mueller, InterfaceFresnel, Mueller4, MUELLER_IDENTITY,
+    camera_stokes_x, interface_fresnel, rotate_row, rotate_then_element, rotation_angle, s_axis,
+    DiagonalElement, InterfaceFresnel, Mueller4, MUELLER_IDENTITY,
 };
 use super::surface_geometry::{intersect, within_aperture};
 use super::LensSystem;
@@ -102,12 +102,16 @@ pub struct TraceOptions {
     /// The "up" vector (lens coordinates) of the camera's Stokes frames: x = normalize(dir × up)
     /// for a camera ray of direction dir (see [`crate::camera::Camera::stokes_x`]).
     pub up: DVec3,
+    /// Carry the whole Mueller matrix (a polarised render); `false`: only its row 0, all that
+    /// unpolarised light sees (the exact (0,0) entry of the same product), the other rows of
+    /// [`LensSample::mueller`] left 0, about a quarter of the work.
+    pub full_mueller: bool,
 }
 
 impl TraceOptions {
     /// Fresnel on, no ghosts, up = +y, at `lambda_nm`.
     pub fn new(lambda_nm: f64) -> Self {
-        Self { lambda_nm, fresnel: true, max_ghost_reflections: 0, up: DVec3::Y }
+        Self { lambda_nm, fresnel: true, max_ghost_reflections: 0, up: DVec3::Y, full_mueller: true }
     }
 }
 
@@ -127,7 +131,8 @@ pub struct LensSample {
     /// The path's Mueller matrix divided by the probability of the branch choices, from the
     /// scene-side Stokes frame (light travelling along −`dir`, x = normalize(`dir` × up)) to the
     /// sensor frame (light travelling along −d₀ with d₀ the ray's first direction from the
-    /// sensor, x = normalize(d₀ × up)); `up` from [`TraceOptions`].
+    /// sensor, x = normalize(d₀ × up)); `up` from [`TraceOptions`]. Only row 0 when
+    /// [`TraceOptions::full_mueller`] is false (rows 1–3 are then 0).
     pub mueller: Mueller4,
     /// How many ghost reflections the path took (even).
     pub reflections: u32,
@@ -217,8 +222,10 @@ impl LensTracer {
         }
         // The path's matrix in light order is built from the sensor end: P ← P·Rot·E at each
         // interface (see super::fresnel_stack), the frame of the previous interface in
-        // `previous_x`.
+        // `previous_x`; row by row (each row r ← r·Rot·E, the 4×4 products' own arithmetic
+        // without their zero terms), and only row 0 unless the whole matrix is asked for.
         let mut path = MUELLER_IDENTITY;
+        let rows = if options.full_mueller { 4 } else { 1 };
         let mut previous_x = camera_stokes_x(dir, options.up);
         let mut probability = 1.0;
         let mut reflections = 0;
@@ -239,8 +246,15 @@ impl LensTracer {
             let light_in = -interaction.dir_out;
             let light_out = -interaction.dir_in;
             let s = s_axis(interaction.normal, light_in, previous_x);
-            let element = if interaction.reflected { reflection_mueller(f) } else { transmission_mueller(f) };
-            path = mueller_mul(&mueller_mul(&path, &rotation_mueller(light_out, s, previous_x)), &element);
+            let element = if interaction.reflected {
+                DiagonalElement::reflection(f)
+            } else {
+                DiagonalElement::transmission(f)
+            };
+            let (cos_2, sin_2) = rotation_angle(light_out, s, previous_x);
+            for row in &mut path[..rows] {
+                *row = rotate_then_element(*row, cos_2, sin_2, &element);
+            }
             previous_x = s;
         };
         let exit = self
@@ -251,7 +265,14 @@ impl LensTracer {
         }
         if fresnel {
             let scene_x = camera_stokes_x(exit.dir, options.up);
-            path = mueller_mul(&path, &rotation_mueller(-exit.dir, scene_x, previous_x));
+            let (cos_2, sin_2) = rotation_angle(-exit.dir, scene_x, previous_x);
+            for row in &mut path[..rows] {
+                *row = rotate_row(*row, cos_2, sin_2);
+            }
+        }
+        if !options.full_mueller {
+            // Rows 1–3 were never carried: 0 rather than the identity's.
+            path[1..].fill([0.0; 4]);
         }
         let mueller = path.map(|row| row.map(|value| value / probability));
         Some(LensSample {
@@ -269,16 +290,21 @@ impl LensTracer {
     /// While fewer than `budget` reflections are taken, each surface draws a number from
     /// `next_uniform` and reflects when it is below R. A walk that ends on the side it
     /// started from is [`Blocked::Returned`].
-    fn walk(
+    fn walk<U, V>(
         &self,
         ray: Ray,
         heading: Heading,
         lambda_nm: f64,
         budget: u32,
-        next_uniform: &mut dyn FnMut() -> f64,
-        visit: &mut dyn FnMut(&Interaction),
-    ) -> Result<Ray, Blocked> {
+        next_uniform: &mut U,
+        visit: &mut V,
+    ) -> Result<Ray, Blocked>
+    where
+        U: FnMut() -> f64 + ?Sized,
+        V: FnMut(&Interaction),
+    {
         let surfaces = &self.system.surfaces;
+        let mut indices = MediumIndices::new(&self.system, lambda_nm);
         let start = heading;
         let mut heading = heading;
         let mut ray = ray;
@@ -308,8 +334,8 @@ impl LensTracer {
             if !within_aperture(surface, hit.point) {
                 return Err(Blocked::Vignetted(at));
             }
-            let n_before = self.system.medium_before(at).n_at_nm(lambda_nm);
-            let n_after = surface.medium.n_at_nm(lambda_nm);
+            let n_before = indices.before(at);
+            let n_after = indices.after(at);
             let (n_in, n_other) = match heading {
                 Heading::ToImage => (n_before, n_after),
                 Heading::ToObject => (n_after, n_before),
@@ -350,6 +376,48 @@ impl LensTracer {
                 Heading::ToImage => 1,
                 Heading::ToObject => -1,
             };
+        }
+    }
+}
+
+/// Surfaces whose medium's index a walk keeps once evaluated (farther ones, in lenses longer
+/// than any camera lens, are evaluated at each meeting).
+const CACHED_SURFACES: usize = 32;
+
+/// The index of each surface's medium at one wavelength, evaluated (its dispersion formula) the
+/// first time a walk needs it and kept: once per surface and trace instead of twice per surface
+/// met. The same function of the same numbers, so the same bits.
+struct MediumIndices<'a> {
+    system: &'a LensSystem,
+    lambda_nm: f64,
+    /// The index behind surface i, NaN until evaluated.
+    after: [f64; CACHED_SURFACES],
+}
+
+impl<'a> MediumIndices<'a> {
+    fn new(system: &'a LensSystem, lambda_nm: f64) -> Self {
+        Self { system, lambda_nm, after: [f64::NAN; CACHED_SURFACES] }
+    }
+
+    /// The index behind surface `at` (toward +z).
+    #[inline]
+    fn after(&mut self, at: usize) -> f64 {
+        let Some(slot) = self.after.get_mut(at) else {
+            return self.system.surfaces[at].medium.n_at_nm(self.lambda_nm);
+        };
+        if slot.is_nan() {
+            *slot = self.system.surfaces[at].medium.n_at_nm(self.lambda_nm);
+        }
+        *slot
+    }
+
+    /// The index in front of surface `at` (air before the first).
+    #[inline]
+    fn before(&mut self, at: usize) -> f64 {
+        if at == 0 {
+            self.system.medium_before(0).n_at_nm(self.lambda_nm)
+        } else {
+            self.after(at - 1)
         }
     }
 }
