@@ -432,3 +432,47 @@ pub fn refract(dir: DVec3, facing: DVec3, cos_i: f64, eta: f64) -> Option<DVec3>
     }
     Some((eta * dir + (eta * cos_i - cos_t_sqr.sqrt()) * facing).normalize())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::lens::read_lens_file;
+
+    #[test]
+    fn row_zero_alone_is_the_full_matrix_row_zero() {
+        // An unpolarised trace carries only row 0 of the path's matrix; it must be the full
+        // trace's row 0 to the bit (the same arithmetic, row by row), ghosts on and off.
+        let file = concat!(env!("CARGO_MANIFEST_DIR"), "/data/lenses/dgauss50.dat");
+        let tracer = LensTracer::new(read_lens_file(std::path::Path::new(file)).expect("dgauss50"));
+        let mut compared = 0;
+        for ghosts in [0, 2] {
+            for i in 0..200 {
+                let a = i as f64 * 0.618_033_988_7;
+                let sensor = [8.0 * (a * 3.1).sin(), 8.0 * (a * 1.7).cos()];
+                let target = [6.0 * (a * 2.3).cos(), 6.0 * (a * 0.9).sin()];
+                let lambda_nm = 400.0 + 300.0 * a.fract();
+                let full = TraceOptions { max_ghost_reflections: ghosts, ..TraceOptions::new(lambda_nm) };
+                let row = TraceOptions { full_mueller: false, ..full };
+                let uniforms = |seed: f64| {
+                    let mut x = seed;
+                    move || {
+                        x = (x + 0.754_877_666_2).fract();
+                        x
+                    }
+                };
+                let a_sample = tracer.trace_from_sensor(sensor, target, &full, &mut uniforms(a.fract()));
+                let b_sample = tracer.trace_from_sensor(sensor, target, &row, &mut uniforms(a.fract()));
+                assert_eq!(a_sample.is_some(), b_sample.is_some());
+                if let (Some(a_sample), Some(b_sample)) = (a_sample, b_sample) {
+                    assert_eq!(a_sample.mueller[0], b_sample.mueller[0]);
+                    assert_eq!(a_sample.throughput, b_sample.throughput);
+                    assert_eq!(a_sample.dir, b_sample.dir);
+                    assert!(b_sample.mueller[1..].iter().flatten().all(|&v| v == 0.0));
+                    compared += 1;
+                }
+            }
+        }
+        // Most of these rays pass (the test is not empty).
+        assert!(compared > 100, "{compared}");
+    }
+}
