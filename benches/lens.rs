@@ -7,12 +7,16 @@
 //! pupil numbers and wavelengths over 360–830 nm, each its own), so criterion's time divided
 //! by 1024 is the time per lane. `unpolarised` carries row 0 of the Mueller matrix (what an
 //! unpolarised render asks for), `polarised` the whole matrix. The share of the 1024 rays
-//! that pass the lens is printed once. `cargo bench --bench lens`.
+//! that pass the lens is printed once. `lens_camera_sample_8_lanes` is a camera sample's eight
+//! lanes (360–830 nm), traced one by one or together
+//! ([`prisma::lens::LensTracer::trace_lanes_from_sensor`], what a render without ghosts does).
+//! `cargo bench --bench lens`.
 
 use std::hint::black_box;
 use std::path::Path;
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use prisma::lens::trace::MAX_LANES;
 use prisma::lens::{read_lens_file, SensorSampler, TraceOptions, LAMBDA_D_NM};
 
 const CALLS: usize = 1024;
@@ -33,7 +37,8 @@ fn sampler() -> SensorSampler {
 
 /// A scrambled low-discrepancy number in [0, 1) for ray `i` and dimension `d`.
 fn number(i: usize, d: usize) -> f64 {
-    const STEPS: [f64; 5] = [0.618_033_988_7, 0.754_877_666_2, 0.569_840_290_9, 0.682_327_803_8, 0.534_992_027_8];
+    const STEPS: [f64; 5] =
+        [0.618_033_988_7, 0.754_877_666_2, 0.569_840_290_9, 0.682_327_803_8, 0.534_992_027_8];
     ((i as f64 + 0.5) * STEPS[d]).fract()
 }
 
@@ -67,7 +72,9 @@ fn lens_benchmarks(c: &mut Criterion) {
                 let mut total = 0.0;
                 for (sensor, u, lambda_nm) in &rays {
                     let options = TraceOptions { full_mueller, ..TraceOptions::new(*lambda_nm) };
-                    if let Some(ray) = sampler.sample(black_box(*sensor), black_box(*u), &options, &mut || 0.0) {
+                    if let Some(ray) =
+                        sampler.sample(black_box(*sensor), black_box(*u), &options, &mut || 0.0)
+                    {
                         total += ray.weight;
                     }
                 }
@@ -75,6 +82,43 @@ fn lens_benchmarks(c: &mut Criterion) {
             })
         });
     }
+    group.finish();
+
+    // A camera sample's 8 lanes: one trace per lane (ghosts on use this) against the lanes
+    // traced together (the render's path without ghosts); per 1024 camera samples, 8192 lanes.
+    let lanes: Vec<f64> = (0..8).map(|lane| 360.0 + 470.0 * (lane as f64 + 0.5) / 8.0).collect();
+    let mut group = c.benchmark_group("lens_camera_sample_8_lanes");
+    group.throughput(Throughput::Elements((8 * CALLS) as u64));
+    group.bench_function("one_by_one", |b| {
+        b.iter(|| {
+            let mut total = 0.0;
+            for (sensor, u, _) in &rays {
+                for lambda_nm in &lanes {
+                    let options = TraceOptions { full_mueller: false, ..TraceOptions::new(*lambda_nm) };
+                    if let Some(ray) =
+                        sampler.sample(black_box(*sensor), black_box(*u), &options, &mut || 0.0)
+                    {
+                        total += ray.weight;
+                    }
+                }
+            }
+            black_box(total)
+        })
+    });
+    group.bench_function("together", |b| {
+        b.iter(|| {
+            let mut total = 0.0;
+            let options = TraceOptions { full_mueller: false, ..TraceOptions::new(LAMBDA_D_NM) };
+            for (sensor, u, _) in &rays {
+                let Some(pupil) = sampler.bounds.sample(black_box(*sensor), black_box(*u)) else { continue };
+                let mut out = [None; MAX_LANES];
+                sampler.tracer.trace_lanes_from_sensor(*sensor, pupil.target_mm, &lanes, &options, &mut out);
+                let weight = sampler.normalisation.sensor_weight(*sensor, &pupil);
+                total += out.iter().flatten().map(|sample| weight * sample.throughput).sum::<f64>();
+            }
+            black_box(total)
+        })
+    });
     group.finish();
 }
 

@@ -54,7 +54,11 @@ use glam::{DVec3, Vec3};
 
 use super::{CameraError, Pinhole};
 use crate::geometry::Ray;
+use crate::lens::trace::MAX_LANES;
 use crate::lens::{read_lens_file, CameraRay, LensSystem, SensorSampler, TraceOptions, LAMBDA_D_NM};
+
+// A camera sample's wavelength lanes are traced together.
+const _: () = assert!(MAX_LANES >= crate::spectrum::N_LAMBDA);
 
 /// Millimetres per scene unit (metre).
 const MM_PER_METRE: f64 = 1000.0;
@@ -245,6 +249,57 @@ impl LensCamera {
         };
         let u = [f64::from(u_pupil.0), f64::from(u_pupil.1)];
         let camera_ray = self.sampler.sample(self.sensor_point_mm(x, y), u, &options, next_uniform)?;
+        self.scene_ray(camera_ray)
+    }
+
+    /// [`Self::sample_ray_for`] for each wavelength of `lambdas_nm` (nm, at most [`MAX_LANES`])
+    /// at once, into the same places of the array: the same rays and weights, to the bit, as a
+    /// call per wavelength (one pupil target for all, as those calls draw; the lens traced for
+    /// all the wavelengths together, [`crate::lens::LensTracer::trace_lanes_from_sensor`]).
+    /// `None` when the camera takes ghost reflections: their branch choices draw numbers, in the
+    /// order of a call per wavelength, which the caller then makes.
+    pub fn sample_rays_for_lanes(
+        &self,
+        x: f32,
+        y: f32,
+        u_pupil: (f32, f32),
+        lambdas_nm: &[f32],
+        polarized: bool,
+    ) -> Option<[Option<(Ray, CameraRay)>; MAX_LANES]> {
+        if self.settings.max_ghost_reflections > 0 {
+            return None;
+        }
+        let mut out = [None; MAX_LANES];
+        let lanes = lambdas_nm.len().min(MAX_LANES);
+        // SensorSampler::sample for every lane: the pupil target, the trace, the weight.
+        let sensor = self.sensor_point_mm(x, y);
+        let u = [f64::from(u_pupil.0), f64::from(u_pupil.1)];
+        let Some(pupil) = self.sampler.bounds.sample(sensor, u) else { return Some(out) };
+        let options = TraceOptions { full_mueller: polarized, ..TraceOptions::new(LAMBDA_D_NM) };
+        let mut lambdas = [0.0; MAX_LANES];
+        for (to, from) in lambdas.iter_mut().zip(&lambdas_nm[..lanes]) {
+            *to = f64::from(*from);
+        }
+        let mut samples = [None; MAX_LANES];
+        self.sampler.tracer.trace_lanes_from_sensor(
+            sensor,
+            pupil.target_mm,
+            &lambdas[..lanes],
+            &options,
+            &mut samples,
+        );
+        let sensor_weight = self.sampler.normalisation.sensor_weight(sensor, &pupil);
+        for (slot, sample) in out.iter_mut().zip(samples) {
+            *slot = sample.and_then(|sample| {
+                self.scene_ray(CameraRay { sample, sensor_weight, weight: sensor_weight * sample.throughput })
+            });
+        }
+        Some(out)
+    }
+
+    /// The scene ray of a camera ray that passed the lens, `None` for one of weight 0 or not
+    /// finite.
+    fn scene_ray(&self, camera_ray: CameraRay) -> Option<(Ray, CameraRay)> {
         if !(camera_ray.weight > 0.0 && (camera_ray.weight as f32).is_finite()) {
             return None;
         }

@@ -265,7 +265,12 @@ pub(crate) fn rotation_angle(forward: DVec3, from: DVec3, to: DVec3) -> (f64, f6
 /// with the same products summed in the same order (the 4×4 products' other terms are exact
 /// zeros), so the same numbers to the bit, in 12 multiplications instead of 128 for the row.
 #[inline]
-pub(crate) fn rotate_then_element(row: [f64; 4], cos_2: f64, sin_2: f64, element: &DiagonalElement) -> [f64; 4] {
+pub(crate) fn rotate_then_element(
+    row: [f64; 4],
+    cos_2: f64,
+    sin_2: f64,
+    element: &DiagonalElement,
+) -> [f64; 4] {
     let [q0, q1, q2, q3] = rotate_row(row, cos_2, sin_2);
     let DiagonalElement { a, b, w_re, w_im } = *element;
     [q0 * a + q1 * b, q0 * b + q1 * a, q2 * w_re + q3 * -w_im, q2 * w_im + q3 * w_re]

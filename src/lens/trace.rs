@@ -214,74 +214,84 @@ impl LensTracer {
         options: &TraceOptions,
         next_uniform: &mut dyn FnMut() -> f64,
     ) -> Option<LensSample> {
+        let ray = self.camera_ray(sensor_mm, target_mm)?;
+        let mut path = CameraPath::start(ray.dir, options);
+        let budget = path.budget;
+        let exit = self
+            .walk(ray, Heading::ToObject, options.lambda_nm, budget, next_uniform, &mut |interaction| {
+                path.visit(interaction)
+            })
+            .ok()?;
+        path.finish(exit, options)
+    }
+
+    /// [`Self::trace_from_sensor`] without ghosts (`options.max_ghost_reflections` is ignored:
+    /// the transmitted branch only) for several wavelengths at once, `lambdas_nm[i]` (nm) into
+    /// `out[i]` (`out` at least as long): the same numbers, to the bit, as a trace per
+    /// wavelength, computed surface by surface for all the wavelengths together, so that the
+    /// processor overlaps their independent chains of divisions and square roots (a lens trace
+    /// is latency-bound: each surface waits on the previous one's refraction).
+    pub fn trace_lanes_from_sensor(
+        &self,
+        sensor_mm: [f64; 2],
+        target_mm: [f64; 2],
+        lambdas_nm: &[f64],
+        options: &TraceOptions,
+        out: &mut [Option<LensSample>],
+    ) {
+        let lanes = lambdas_nm.len().min(MAX_LANES);
+        assert!(out.len() >= lambdas_nm.len() && lambdas_nm.len() <= MAX_LANES, "{} lanes", lambdas_nm.len());
+        let Some(start) = self.camera_ray(sensor_mm, target_mm) else {
+            out[..lanes].fill(None);
+            return;
+        };
+        let options = TraceOptions { max_ghost_reflections: 0, ..*options };
+        let mut rays = [start; MAX_LANES];
+        let mut live = [true; MAX_LANES];
+        let mut paths = [CameraPath::start(start.dir, &options); MAX_LANES];
+        let mut indices: [MediumIndices; MAX_LANES] = std::array::from_fn(|lane| {
+            MediumIndices::new(&self.system, lambdas_nm.get(lane).copied().unwrap_or(0.0))
+        });
+        for at in (0..self.system.surfaces.len()).rev() {
+            for lane in 0..lanes {
+                if !live[lane] {
+                    continue;
+                }
+                let met =
+                    self.meet(at, Heading::ToObject, &rays[lane], &mut indices[lane]).and_then(|meeting| {
+                        let dir_out = refract(
+                            rays[lane].dir,
+                            meeting.facing,
+                            meeting.cos_i,
+                            meeting.n_in / meeting.n_other,
+                        )
+                        .ok_or(Blocked::TotalInternalReflection(at))?;
+                        Ok(meeting.interaction(at, rays[lane].dir, dir_out, false))
+                    });
+                match met {
+                    Ok(interaction) => {
+                        paths[lane].visit(&interaction);
+                        rays[lane] = Ray { origin: interaction.point, dir: interaction.dir_out };
+                    }
+                    Err(_) => live[lane] = false,
+                }
+            }
+        }
+        for lane in 0..lanes {
+            out[lane] = if live[lane] { paths[lane].finish(rays[lane], &options) } else { None };
+        }
+    }
+
+    /// The camera ray from the sensor point toward the target on the rear vertex plane, or
+    /// `None` when it does not head toward the lens.
+    fn camera_ray(&self, sensor_mm: [f64; 2], target_mm: [f64; 2]) -> Option<Ray> {
         let origin = DVec3::new(sensor_mm[0], sensor_mm[1], self.image_z_mm());
         let target = DVec3::new(target_mm[0], target_mm[1], self.rear_vertex_z_mm());
         let dir = (target - origin).normalize();
         if !dir.is_finite() || dir.z >= 0.0 {
             return None;
         }
-        // The path's matrix in light order is built from the sensor end: P ← P·Rot·E at each
-        // interface (see super::fresnel_stack), the frame of the previous interface in
-        // `previous_x`; row by row (each row r ← r·Rot·E, the 4×4 products' own arithmetic
-        // without their zero terms), and only row 0 unless the whole matrix is asked for.
-        let mut path = MUELLER_IDENTITY;
-        let rows = if options.full_mueller { 4 } else { 1 };
-        let mut previous_x = camera_stokes_x(dir, options.up);
-        let mut probability = 1.0;
-        let mut reflections = 0;
-        let fresnel = options.fresnel;
-        let budget = if fresnel { options.max_ghost_reflections } else { 0 };
-        let mut visit = |interaction: &Interaction| {
-            let f = &interaction.fresnel;
-            if interaction.reflected {
-                reflections += 1;
-                probability *= f.reflectance();
-            } else if reflections < budget {
-                probability *= 1.0 - f.reflectance();
-            }
-            if !fresnel {
-                return;
-            }
-            // The light goes the other way: it arrives along −dir_out and leaves along −dir_in.
-            let light_in = -interaction.dir_out;
-            let light_out = -interaction.dir_in;
-            let s = s_axis(interaction.normal, light_in, previous_x);
-            let element = if interaction.reflected {
-                DiagonalElement::reflection(f)
-            } else {
-                DiagonalElement::transmission(f)
-            };
-            let (cos_2, sin_2) = rotation_angle(light_out, s, previous_x);
-            for row in &mut path[..rows] {
-                *row = rotate_then_element(*row, cos_2, sin_2, &element);
-            }
-            previous_x = s;
-        };
-        let exit = self
-            .walk(Ray { origin, dir }, Heading::ToObject, options.lambda_nm, budget, next_uniform, &mut visit)
-            .ok()?;
-        if probability <= 0.0 {
-            return None;
-        }
-        if fresnel {
-            let scene_x = camera_stokes_x(exit.dir, options.up);
-            let (cos_2, sin_2) = rotation_angle(-exit.dir, scene_x, previous_x);
-            for row in &mut path[..rows] {
-                *row = rotate_row(*row, cos_2, sin_2);
-            }
-        }
-        if !options.full_mueller {
-            // Rows 1–3 were never carried: 0 rather than the identity's.
-            path[1..].fill([0.0; 4]);
-        }
-        let mueller = path.map(|row| row.map(|value| value / probability));
-        Some(LensSample {
-            origin_mm: exit.origin,
-            dir: exit.dir,
-            throughput: mueller[0][0],
-            mueller,
-            reflections,
-        })
+        Some(Ray { origin, dir })
     }
 
     /// The sequential walk: from `ray` heading `heading`, surface by surface, until it leaves
@@ -328,23 +338,8 @@ impl LensTracer {
                 }
                 return Ok(Ray { origin: ray.origin + t * ray.dir, dir: ray.dir });
             }
-            let surface = &surfaces[at];
-            let hit = intersect(surface, self.vertex_z_mm[at], ray.origin, ray.dir, T_MIN_MM)
-                .ok_or(Blocked::Missed(at))?;
-            if !within_aperture(surface, hit.point) {
-                return Err(Blocked::Vignetted(at));
-            }
-            let n_before = indices.before(at);
-            let n_after = indices.after(at);
-            let (n_in, n_other) = match heading {
-                Heading::ToImage => (n_before, n_after),
-                Heading::ToObject => (n_after, n_before),
-            };
-            // The normal facing the incoming ray.
-            let cos_signed = hit.normal.dot(ray.dir);
-            let facing = if cos_signed < 0.0 { hit.normal } else { -hit.normal };
-            let cos_i = cos_signed.abs().min(1.0);
-            let fresnel = interface_fresnel(cos_i, n_in, n_other);
+            let meeting = self.meet(at, heading, &ray, &mut indices)?;
+            let (fresnel, cos_i, facing) = (meeting.fresnel, meeting.cos_i, meeting.facing);
             let reflect = if reflections < budget && fresnel.reflectance() > 0.0 {
                 next_uniform() < fresnel.reflectance()
             } else {
@@ -358,25 +353,171 @@ impl LensTracer {
                 };
                 (ray.dir + 2.0 * cos_i * facing).normalize()
             } else {
-                refract(ray.dir, facing, cos_i, n_in / n_other).ok_or(Blocked::TotalInternalReflection(at))?
+                refract(ray.dir, facing, cos_i, meeting.n_in / meeting.n_other)
+                    .ok_or(Blocked::TotalInternalReflection(at))?
             };
-            visit(&Interaction {
-                surface: at,
-                point: hit.point,
-                normal: hit.normal,
-                dir_in: ray.dir,
-                dir_out,
-                n_in,
-                n_other,
-                fresnel,
-                reflected: reflect,
-            });
-            ray = Ray { origin: hit.point, dir: dir_out };
+            visit(&meeting.interaction(at, ray.dir, dir_out, reflect));
+            ray = Ray { origin: meeting.point, dir: dir_out };
             index += match heading {
                 Heading::ToImage => 1,
                 Heading::ToObject => -1,
             };
         }
+    }
+}
+
+/// Wavelength lanes [`LensTracer::trace_lanes_from_sensor`] traces together at most (the
+/// renderer's lanes per camera sample).
+pub const MAX_LANES: usize = 8;
+
+impl LensTracer {
+    /// A ray's meeting with surface `at` going `heading`: where, the indices on either side and
+    /// the Fresnel coefficients of the incidence; the direction out (reflected or refracted) is
+    /// the caller's choice.
+    #[inline]
+    fn meet(
+        &self,
+        at: usize,
+        heading: Heading,
+        ray: &Ray,
+        indices: &mut MediumIndices,
+    ) -> Result<Meeting, Blocked> {
+        let surface = &self.system.surfaces[at];
+        let hit = intersect(surface, self.vertex_z_mm[at], ray.origin, ray.dir, T_MIN_MM)
+            .ok_or(Blocked::Missed(at))?;
+        if !within_aperture(surface, hit.point) {
+            return Err(Blocked::Vignetted(at));
+        }
+        let n_before = indices.before(at);
+        let n_after = indices.after(at);
+        let (n_in, n_other) = match heading {
+            Heading::ToImage => (n_before, n_after),
+            Heading::ToObject => (n_after, n_before),
+        };
+        // The normal facing the incoming ray.
+        let cos_signed = hit.normal.dot(ray.dir);
+        let facing = if cos_signed < 0.0 { hit.normal } else { -hit.normal };
+        let cos_i = cos_signed.abs().min(1.0);
+        let fresnel = interface_fresnel(cos_i, n_in, n_other);
+        Ok(Meeting { point: hit.point, normal: hit.normal, facing, cos_i, n_in, n_other, fresnel })
+    }
+}
+
+/// What [`LensTracer::meet`] finds at a surface.
+#[derive(Clone, Copy)]
+struct Meeting {
+    point: DVec3,
+    normal: DVec3,
+    /// The unit normal facing the incoming ray.
+    facing: DVec3,
+    cos_i: f64,
+    n_in: f64,
+    n_other: f64,
+    fresnel: InterfaceFresnel,
+}
+
+impl Meeting {
+    #[inline]
+    fn interaction(&self, surface: usize, dir_in: DVec3, dir_out: DVec3, reflected: bool) -> Interaction {
+        Interaction {
+            surface,
+            point: self.point,
+            normal: self.normal,
+            dir_in,
+            dir_out,
+            n_in: self.n_in,
+            n_other: self.n_other,
+            fresnel: self.fresnel,
+            reflected,
+        }
+    }
+}
+
+/// A camera ray's path through the lens as it is traced from the sensor: its Mueller matrix in
+/// light order, built from the sensor end (P ← P·Rot·E at each interface, see
+/// super::fresnel_stack; row by row, each row r ← r·Rot·E with the 4×4 products' own
+/// arithmetic without their zero terms, and only row 0 unless the whole matrix is asked for),
+/// the frame of the previous interface, and the probability of its branch choices.
+#[derive(Clone, Copy)]
+struct CameraPath {
+    path: Mueller4,
+    rows: usize,
+    previous_x: DVec3,
+    probability: f64,
+    reflections: u32,
+    fresnel: bool,
+    budget: u32,
+}
+
+impl CameraPath {
+    /// The path of a camera ray leaving the sensor along `dir`.
+    fn start(dir: DVec3, options: &TraceOptions) -> Self {
+        let fresnel = options.fresnel;
+        Self {
+            path: MUELLER_IDENTITY,
+            rows: if options.full_mueller { 4 } else { 1 },
+            previous_x: camera_stokes_x(dir, options.up),
+            probability: 1.0,
+            reflections: 0,
+            fresnel,
+            budget: if fresnel { options.max_ghost_reflections } else { 0 },
+        }
+    }
+
+    /// Adds an interface.
+    #[inline]
+    fn visit(&mut self, interaction: &Interaction) {
+        let f = &interaction.fresnel;
+        if interaction.reflected {
+            self.reflections += 1;
+            self.probability *= f.reflectance();
+        } else if self.reflections < self.budget {
+            self.probability *= 1.0 - f.reflectance();
+        }
+        if !self.fresnel {
+            return;
+        }
+        // The light goes the other way: it arrives along −dir_out and leaves along −dir_in.
+        let light_in = -interaction.dir_out;
+        let light_out = -interaction.dir_in;
+        let s = s_axis(interaction.normal, light_in, self.previous_x);
+        let element = if interaction.reflected {
+            DiagonalElement::reflection(f)
+        } else {
+            DiagonalElement::transmission(f)
+        };
+        let (cos_2, sin_2) = rotation_angle(light_out, s, self.previous_x);
+        for row in &mut self.path[..self.rows] {
+            *row = rotate_then_element(*row, cos_2, sin_2, &element);
+        }
+        self.previous_x = s;
+    }
+
+    /// The sample of the path that left the lens as `exit`; `None` for a path of probability 0.
+    fn finish(mut self, exit: Ray, options: &TraceOptions) -> Option<LensSample> {
+        if self.probability <= 0.0 {
+            return None;
+        }
+        if self.fresnel {
+            let scene_x = camera_stokes_x(exit.dir, options.up);
+            let (cos_2, sin_2) = rotation_angle(-exit.dir, scene_x, self.previous_x);
+            for row in &mut self.path[..self.rows] {
+                *row = rotate_row(*row, cos_2, sin_2);
+            }
+        }
+        if !options.full_mueller {
+            // Rows 1–3 were never carried: 0 rather than the identity's.
+            self.path[1..].fill([0.0; 4]);
+        }
+        let probability = self.probability;
+        let mueller = self.path.map(|row| row.map(|value| value / probability));
+        Some(LensSample {
+            origin_mm: exit.origin,
+            dir: exit.dir,
+            throughput: mueller[0][0],
+            mueller,
+            reflections: self.reflections,
+        })
     }
 }
 
@@ -474,5 +615,38 @@ mod tests {
         }
         // Most of these rays pass (the test is not empty).
         assert!(compared > 100, "{compared}");
+    }
+
+    #[test]
+    fn lanes_traced_together_are_the_lanes_traced_alone() {
+        // trace_lanes_from_sensor must give each wavelength the numbers of its own
+        // trace_from_sensor to the bit (passing and blocked alike), both Mueller modes.
+        let file = concat!(env!("CARGO_MANIFEST_DIR"), "/data/lenses/dgauss50.dat");
+        let tracer = LensTracer::new(read_lens_file(std::path::Path::new(file)).expect("dgauss50"));
+        let lambdas = [361.0, 420.5, 486.13, 530.0, 587.56, 640.0, 700.0, 829.0];
+        let (mut passed, mut blocked) = (0, 0);
+        for full_mueller in [false, true] {
+            for i in 0..300 {
+                let a = i as f64 * 0.618_033_988_7;
+                let sensor = [9.0 * (a * 3.1).sin(), 9.0 * (a * 1.7).cos()];
+                let target = [7.0 * (a * 2.3).cos(), 7.0 * (a * 0.9).sin()];
+                let options = TraceOptions { full_mueller, ..TraceOptions::new(550.0) };
+                let lanes = 1 + i % MAX_LANES;
+                let mut together = [None; MAX_LANES];
+                tracer.trace_lanes_from_sensor(sensor, target, &lambdas[..lanes], &options, &mut together);
+                for (lane, lambda_nm) in lambdas[..lanes].iter().enumerate() {
+                    let alone = TraceOptions { lambda_nm: *lambda_nm, ..options };
+                    let expected = tracer.trace_from_sensor(sensor, target, &alone, &mut || 0.0);
+                    assert_eq!(together[lane], expected, "ray {i}, lane {lane}");
+                    if expected.is_some() {
+                        passed += 1;
+                    } else {
+                        blocked += 1;
+                    }
+                }
+            }
+        }
+        // Both kinds are compared.
+        assert!(passed > 100 && blocked > 100, "{passed} passed, {blocked} blocked");
     }
 }
