@@ -43,7 +43,8 @@ END = "<!-- lens_speed.py: end -->"
 HEADLINE_MARK = "lens camera vs pinhole"
 LENS = ROOT / "scenes" / "lens_dgauss50.toml"
 PINHOLE = ROOT / "scenes" / "lens_pinhole.toml"
-SERIES_SPP = {"lens, all lanes": [4, 16, 64], "lens, one lane": [4, 16, 64, 256], "pinhole": [4, 16, 64, 256]}
+SERIES_SPP = {"lens, all lanes": [4, 16, 64], "lens, one lane": [4, 16, 64, 256, 1024],
+              "pinhole": [1, 2, 4, 16, 64, 256]}
 TARGETS = [1e-2, 3e-3, 1e-3]
 
 
@@ -77,6 +78,9 @@ def main():
     parser.add_argument("--ref-spp", type=int, default=512)
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--threads", type=int, default=1)
+    parser.add_argument("--baseline", help="an earlier prisma binary: its all-lanes lens render joins the equal-spp "
+                                           "rounds (before/after)")
+    parser.add_argument("--baseline-name", default="before")
     parser.add_argument("--refs", help="directory of earlier references to reuse (lens_1.exr, lens_2.exr, pin_1.exr, "
                                        "pin_2.exr)")
     args = parser.parse_args()
@@ -87,10 +91,13 @@ def main():
     cameras = {"lens, all lanes": LENS, "lens, one lane": one, "pinhole": PINHOLE}
 
     # 1. Equal spp at the scenes' own resolution and spp (16), alternating.
-    equal_spp = {name: [] for name in cameras}
+    rounds = [(name, args.prisma, scene) for name, scene in cameras.items()]
+    if args.baseline:
+        rounds.append((f"lens, all lanes ({args.baseline_name})", args.baseline, LENS))
+    equal_spp = {name: [] for name, _, _ in rounds}
     for _ in range(args.repeats):
-        for name, scene in cameras.items():
-            equal_spp[name].append(render(args.prisma, scene, work / "equal.exr", 16, args.threads, 7))
+        for name, binary, scene in rounds:
+            equal_spp[name].append(render(binary, scene, work / "equal.exr", 16, args.threads, 7))
     best = {name: min(times) for name, times in equal_spp.items()}
 
     # 2. References.
@@ -129,7 +136,8 @@ def main():
              f"Date: {started}–{finished}; commit {commit}; {platform.processor() or platform.machine()}, "
              f"{os.cpu_count()} logical cores shared with other builds (load average {load_before:.1f} before, "
              f"{load_after:.1f} after). Command: `validation/.venv/bin/python validation/bench/lens_speed.py"
-             f" --threads {args.threads} --repeats {args.repeats} --width {args.width} --ref-spp {args.ref_spp}`"
+             f" --threads {args.threads} --repeats {args.repeats} --width {args.width} --ref-spp {args.ref_spp}"
+             f"{' --baseline BIN --baseline-name ' + repr(args.baseline_name) if args.baseline else ''}`"
              f" (written to this file). Scenes: `scenes/lens_dgauss50.toml` (double Gauss 50 mm at f/2.8, ghosts "
              f"off, unpolarised, 8 wavelength lanes), the same with `[render] wavelengths = 1` (one lane), "
              f"`scenes/lens_pinhole.toml`; all `path`, max_depth 8, `--threads {args.threads}`.", "",
