@@ -132,7 +132,7 @@ def main():
     commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True,
                             text=True).stdout.strip()
     share_note = ("the share of camera samples that pass the lens: see the section (from `cargo bench --bench lens`)")
-    lines = [BEGIN, "## Lens-system camera against the pinhole (issue 40, \"Speed\")", "",
+    lines = [BEGIN, "### Measured by lens_speed.py", "",
              f"Date: {started}–{finished}; commit {commit}; {platform.processor() or platform.machine()}, "
              f"{os.cpu_count()} logical cores shared with other builds (load average {load_before:.1f} before, "
              f"{load_after:.1f} after). Command: `validation/.venv/bin/python validation/bench/lens_speed.py"
@@ -176,7 +176,8 @@ def main():
         text = text[:text.index(BEGIN)] + section + text[text.index(END) + len(END):]
     else:
         marker = "## Rendering at equal error, polarised and unpolarised"
-        text = text.replace(marker, section + "\n\n" + marker, 1)
+        heading = "## Lens-system camera against the pinhole (issue 40, \"Speed\")"
+        text = text.replace(marker, heading + "\n\n" + section + "\n\n" + marker, 1)
     RESULTS.write_text(text)
     print(section)
     print(share_note)
