@@ -316,3 +316,48 @@ impl LensCamera {
         v.x as f32 * right + v.y as f32 * up - v.z as f32 * forward
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lanes_at_once_are_the_lanes_one_by_one() {
+        // sample_rays_for_lanes (what a render without ghosts uses) must give every lane the
+        // ray and weights of its own sample_ray_for call, to the bit: it composes the same
+        // pupil target, trace and weight as SensorSampler::sample, and this test guards that
+        // they stay the same.
+        let settings = LensSettings {
+            lens: PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/data/lenses/dgauss50.dat")),
+            sensor_height_mm: 24.0,
+            focus_distance_m: 6.0,
+            f_number: Some(2.8),
+            max_ghost_reflections: 0,
+        };
+        let camera =
+            LensCamera::new(Vec3::new(0.0, 1.2, -5.0), Vec3::new(0.0, 0.8, 10.0), Vec3::Y, 36, 24, settings)
+                .expect("the shipped lens");
+        let lambdas = [365.0, 410.0, 460.0, 510.0, 560.0, 610.0, 680.0, 800.0];
+        let (mut passed, mut blocked) = (0, 0);
+        for polarized in [false, true] {
+            for i in 0..400 {
+                let a = i as f32 * 0.618_034;
+                let (x, y) = (36.0 * (a * 0.37).fract(), 24.0 * (a * 0.71).fract());
+                let u = ((a * 0.53).fract(), (a * 0.29).fract());
+                let lanes = 1 + i % MAX_LANES;
+                let together =
+                    camera.sample_rays_for_lanes(x, y, u, &lambdas[..lanes], polarized).expect("no ghosts");
+                for (lane, lambda_nm) in lambdas[..lanes].iter().enumerate() {
+                    let alone = camera.sample_ray_for(x, y, u, *lambda_nm, polarized, &mut || 0.0);
+                    assert_eq!(together[lane], alone, "sample {i}, lane {lane}");
+                    if alone.is_some() {
+                        passed += 1;
+                    } else {
+                        blocked += 1;
+                    }
+                }
+            }
+        }
+        assert!(passed > 100 && blocked > 10, "{passed} passed, {blocked} blocked");
+    }
+}

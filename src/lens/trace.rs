@@ -9,7 +9,14 @@
 //!   plane, the direction of the light: spot diagrams, intercepts, the paraxial limit;
 //! - [`LensTracer::trace_from_sensor`]: a camera ray from a point on the sensor toward the rear
 //!   element, back out into the scene (the direction pbrt's realistic camera traces), with the
-//!   Mueller matrix of the light's path from the scene to the sensor and, optionally, ghosts.
+//!   Mueller matrix of the light's path from the scene to the sensor and, optionally, ghosts;
+//!   [`LensTracer::trace_lanes_from_sensor`] traces it for several wavelengths at once (no
+//!   ghosts), the same numbers to the bit, faster (the lanes' latency chains overlap).
+//!
+//! Cost (issue 40, validation/bench/RESULTS.md): each medium's index is evaluated once per
+//! surface and trace; the path's Mueller matrix is carried row by row (r ← r·Rot·E, the 4×4
+//! products' own arithmetic without their zero terms), only row 0 for unpolarised light
+//! ([`TraceOptions::full_mueller`]).
 //!
 //! # Ghosts: the branch estimator
 //! At each surface the camera ray either reflects, with probability R (the unpolarised Fresnel
