@@ -53,7 +53,7 @@ use crate::part::{PixelWindow, SampleSet};
 use crate::polarization::Stokes;
 use crate::sampler::{LightPathSequence, PixelKey, PixelRng};
 use crate::scene::{IntegratorKind, RenderSettings, Scene};
-use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use crate::spectrum::{SampledSpectrum, SampledWavelengths, N_LAMBDA};
 
 /// Stack of each render thread: Whitted recursion runs on it, one frame per bounce.
 const THREAD_STACK_BYTES: usize = 64 << 20;
@@ -1007,10 +1007,19 @@ fn add_lens_sample<B: PathBeam>(
 ) -> bool {
     let u_pupil = (rng.uniform(), rng.uniform());
     let mut stokes = [SampledSpectrum::zero(); 4];
+    // Without ghosts every lane's ray is traced at once (the same rays as one by one, faster);
+    // with them each lane's branch choices draw from `rng` in turn.
+    let lambdas: [f32; N_LAMBDA] = std::array::from_fn(|lane| wavelengths.lambda_nm(lane));
+    let all_lanes =
+        lens.sample_rays_for_lanes(film.0, film.1, u_pupil, &lambdas[..wavelengths.active()], B::POLARIZED);
     for lane in 0..wavelengths.active() {
-        let traced = lens.sample_ray(film.0, film.1, u_pupil, wavelengths.lambda_nm(lane), &mut || {
-            f64::from(rng.uniform())
-        });
+        let lambda_nm = wavelengths.lambda_nm(lane);
+        let traced = match &all_lanes {
+            Some(rays) => rays[lane],
+            None => lens.sample_ray_for(film.0, film.1, u_pupil, lambda_nm, B::POLARIZED, &mut || {
+                f64::from(rng.uniform())
+            }),
+        };
         let Some((ray, camera_ray)) = traced else { continue };
         let frame_x = if B::POLARIZED { lens.pinhole().stokes_x(ray.dir) } else { ray.dir };
         let alone = wavelengths.lane_alone(lane);

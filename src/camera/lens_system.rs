@@ -54,7 +54,11 @@ use glam::{DVec3, Vec3};
 
 use super::{CameraError, Pinhole};
 use crate::geometry::Ray;
+use crate::lens::trace::MAX_LANES;
 use crate::lens::{read_lens_file, CameraRay, LensSystem, SensorSampler, TraceOptions, LAMBDA_D_NM};
+
+// A camera sample's wavelength lanes are traced together.
+const _: () = assert!(MAX_LANES >= crate::spectrum::N_LAMBDA);
 
 /// Millimetres per scene unit (metre).
 const MM_PER_METRE: f64 = 1000.0;
@@ -223,12 +227,79 @@ impl LensCamera {
         lambda_nm: f32,
         next_uniform: &mut dyn FnMut() -> f64,
     ) -> Option<(Ray, CameraRay)> {
+        self.sample_ray_for(x, y, u_pupil, lambda_nm, true, next_uniform)
+    }
+
+    /// [`Self::sample_ray`] for a polarised render (`polarized`: the whole Mueller matrix) or an
+    /// unpolarised one (only its row 0 is traced: `sample.mueller`'s rows 1–3 are 0, and
+    /// [`CameraRay::weight`] is the same number).
+    pub fn sample_ray_for(
+        &self,
+        x: f32,
+        y: f32,
+        u_pupil: (f32, f32),
+        lambda_nm: f32,
+        polarized: bool,
+        next_uniform: &mut dyn FnMut() -> f64,
+    ) -> Option<(Ray, CameraRay)> {
         let options = TraceOptions {
             max_ghost_reflections: self.settings.max_ghost_reflections,
+            full_mueller: polarized,
             ..TraceOptions::new(f64::from(lambda_nm))
         };
         let u = [f64::from(u_pupil.0), f64::from(u_pupil.1)];
         let camera_ray = self.sampler.sample(self.sensor_point_mm(x, y), u, &options, next_uniform)?;
+        self.scene_ray(camera_ray)
+    }
+
+    /// [`Self::sample_ray_for`] for each wavelength of `lambdas_nm` (nm, at most [`MAX_LANES`])
+    /// at once, into the same places of the array: the same rays and weights, to the bit, as a
+    /// call per wavelength (one pupil target for all, as those calls draw; the lens traced for
+    /// all the wavelengths together, [`crate::lens::LensTracer::trace_lanes_from_sensor`]).
+    /// `None` when the camera takes ghost reflections: their branch choices draw numbers, in the
+    /// order of a call per wavelength, which the caller then makes.
+    pub fn sample_rays_for_lanes(
+        &self,
+        x: f32,
+        y: f32,
+        u_pupil: (f32, f32),
+        lambdas_nm: &[f32],
+        polarized: bool,
+    ) -> Option<[Option<(Ray, CameraRay)>; MAX_LANES]> {
+        if self.settings.max_ghost_reflections > 0 {
+            return None;
+        }
+        let mut out = [None; MAX_LANES];
+        let lanes = lambdas_nm.len().min(MAX_LANES);
+        // SensorSampler::sample for every lane: the pupil target, the trace, the weight.
+        let sensor = self.sensor_point_mm(x, y);
+        let u = [f64::from(u_pupil.0), f64::from(u_pupil.1)];
+        let Some(pupil) = self.sampler.bounds.sample(sensor, u) else { return Some(out) };
+        let options = TraceOptions { full_mueller: polarized, ..TraceOptions::new(LAMBDA_D_NM) };
+        let mut lambdas = [0.0; MAX_LANES];
+        for (to, from) in lambdas.iter_mut().zip(&lambdas_nm[..lanes]) {
+            *to = f64::from(*from);
+        }
+        let mut samples = [None; MAX_LANES];
+        self.sampler.tracer.trace_lanes_from_sensor(
+            sensor,
+            pupil.target_mm,
+            &lambdas[..lanes],
+            &options,
+            &mut samples,
+        );
+        let sensor_weight = self.sampler.normalisation.sensor_weight(sensor, &pupil);
+        for (slot, sample) in out.iter_mut().zip(samples) {
+            *slot = sample.and_then(|sample| {
+                self.scene_ray(CameraRay { sample, sensor_weight, weight: sensor_weight * sample.throughput })
+            });
+        }
+        Some(out)
+    }
+
+    /// The scene ray of a camera ray that passed the lens, `None` for one of weight 0 or not
+    /// finite.
+    fn scene_ray(&self, camera_ray: CameraRay) -> Option<(Ray, CameraRay)> {
         if !(camera_ray.weight > 0.0 && (camera_ray.weight as f32).is_finite()) {
             return None;
         }
@@ -243,5 +314,50 @@ impl LensCamera {
         let (right, up) = self.pinhole.right_and_up();
         let forward = up.cross(right);
         v.x as f32 * right + v.y as f32 * up - v.z as f32 * forward
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lanes_at_once_are_the_lanes_one_by_one() {
+        // sample_rays_for_lanes (what a render without ghosts uses) must give every lane the
+        // ray and weights of its own sample_ray_for call, to the bit: it composes the same
+        // pupil target, trace and weight as SensorSampler::sample, and this test guards that
+        // they stay the same.
+        let settings = LensSettings {
+            lens: PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/data/lenses/dgauss50.dat")),
+            sensor_height_mm: 24.0,
+            focus_distance_m: 6.0,
+            f_number: Some(2.8),
+            max_ghost_reflections: 0,
+        };
+        let camera =
+            LensCamera::new(Vec3::new(0.0, 1.2, -5.0), Vec3::new(0.0, 0.8, 10.0), Vec3::Y, 36, 24, settings)
+                .expect("the shipped lens");
+        let lambdas = [365.0, 410.0, 460.0, 510.0, 560.0, 610.0, 680.0, 800.0];
+        let (mut passed, mut blocked) = (0, 0);
+        for polarized in [false, true] {
+            for i in 0..400 {
+                let a = i as f32 * 0.618_034;
+                let (x, y) = (36.0 * (a * 0.37).fract(), 24.0 * (a * 0.71).fract());
+                let u = ((a * 0.53).fract(), (a * 0.29).fract());
+                let lanes = 1 + i % MAX_LANES;
+                let together =
+                    camera.sample_rays_for_lanes(x, y, u, &lambdas[..lanes], polarized).expect("no ghosts");
+                for (lane, lambda_nm) in lambdas[..lanes].iter().enumerate() {
+                    let alone = camera.sample_ray_for(x, y, u, *lambda_nm, polarized, &mut || 0.0);
+                    assert_eq!(together[lane], alone, "sample {i}, lane {lane}");
+                    if alone.is_some() {
+                        passed += 1;
+                    } else {
+                        blocked += 1;
+                    }
+                }
+            }
+        }
+        assert!(passed > 100 && blocked > 10, "{passed} passed, {blocked} blocked");
     }
 }

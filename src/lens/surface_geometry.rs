@@ -68,7 +68,9 @@ fn polynomial(alphas: &[f64], rho: f64) -> (f64, f64) {
 /// aperture is not checked here (see [`within_aperture`]).
 pub fn intersect(surface: &Surface, vertex_z_mm: f64, origin: DVec3, dir: DVec3, t_min: f64) -> Option<Hit> {
     let local = origin - DVec3::new(0.0, 0.0, vertex_z_mm);
-    let conic_hit = intersect_conic(surface, local, dir, t_min)?;
+    // 1/R once for the root and the normal.
+    let c = surface.curvature_per_mm();
+    let conic_hit = intersect_conic(surface, c, local, dir, t_min)?;
     let t = if surface.aspheric_mm.is_empty() {
         conic_hit
     } else {
@@ -78,7 +80,7 @@ pub fn intersect(surface: &Surface, vertex_z_mm: f64, origin: DVec3, dir: DVec3,
         return None;
     }
     let point_local = local + t * dir;
-    let normal = normal_local(surface, point_local)?;
+    let normal = normal_local(surface, c, point_local)?;
     Some(Hit { t, point: point_local + DVec3::new(0.0, 0.0, vertex_z_mm), normal })
 }
 
@@ -92,9 +94,9 @@ pub fn within_aperture(surface: &Surface, point: DVec3) -> bool {
 }
 
 /// The first root (t > `t_min`) of the quadric c(x² + y² + (1 + k) z²) − 2z = 0 along
-/// `local + t·dir` that lies on the patch through the vertex, or `None`.
-fn intersect_conic(surface: &Surface, local: DVec3, dir: DVec3, t_min: f64) -> Option<f64> {
-    let c = surface.curvature_per_mm();
+/// `local + t·dir` that lies on the patch through the vertex, or `None`; `c` is the surface's
+/// curvature (1/mm).
+fn intersect_conic(surface: &Surface, c: f64, local: DVec3, dir: DVec3, t_min: f64) -> Option<f64> {
     let k1 = 1.0 + surface.conic;
     // With A = c(dx² + dy² + k1 dz²), B = dz − c(x dx + y dy + k1 z dz),
     // C = c(x² + y² + k1 z²) − 2z the equation is A t² − 2B t + C = 0; its roots are
@@ -149,9 +151,16 @@ fn sag_and_slope(surface: &Surface, rho: f64) -> Option<(f64, f64)> {
     Some((c * rho / (1.0 + sqrt) + poly, c / (2.0 * sqrt) + poly_slope))
 }
 
-/// The unit normal toward +z at `local` (relative to the vertex).
-fn normal_local(surface: &Surface, local: DVec3) -> Option<DVec3> {
-    let c = surface.curvature_per_mm();
+/// The unit normal toward +z at `local` (relative to the vertex); `c` is the surface's
+/// curvature (1/mm).
+fn normal_local(surface: &Surface, c: f64, local: DVec3) -> Option<DVec3> {
+    if surface.aspheric_mm.is_empty() && (surface.conic == 0.0 || c == 0.0) {
+        // A sphere (or a plane): on c(x² + y² + z²) = 2z the gradient (−c x, −c y, 1 − c z)
+        // has |g|² = 1 + c·(c(x² + y² + z²) − 2z) = 1 to the rounding of the hit (its residual
+        // ~1e-15 mm times c), so it is the unit normal without a square root and a division.
+        let normal = DVec3::new(-c * local.x, -c * local.y, 1.0 - c * local.z);
+        return normal.is_finite().then_some(normal);
+    }
     let gradient = if surface.aspheric_mm.is_empty() {
         DVec3::new(-c * local.x, -c * local.y, 1.0 - c * (1.0 + surface.conic) * local.z)
     } else {
