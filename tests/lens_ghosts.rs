@@ -93,7 +93,7 @@ fn estimate(sampler: &SensorSampler, sensor_mm: [f64; 2], aim: Aim, n: usize, se
     })
 }
 
-/// The double Gauss stopped down to f/5.6, on axis: a quarter of its ghost light (paths that
+/// The double Gauss stopped down to f/5.6, on axis: 13 % of its ghost light (paths that
 /// reflect twice between its surfaces, ≈ 0.049 of a uniform radiance's image; 0.042 through
 /// the bounds alone when measured) starts outside the exit-pupil bounds of the transmitted
 /// light, on rays that would be cut by the small stop but are reflected back before they get
