@@ -182,6 +182,26 @@ impl LensCamera {
         Ok(Self::with_system(pinhole, self.settings.clone(), self.sampler.tracer.system.clone()))
     }
 
+    /// The same camera with its sensor moved `offset_mm` (mm) along the axis from where
+    /// focusing put it (+: away from the lens), its sampler measured again: a through-focus
+    /// series of one scene (tests/lens_sharpest_plane.rs). The settings stay as they were, so
+    /// the scene's digest does not see the offset.
+    ///
+    /// # Errors
+    /// When the sensor would meet or pass the last vertex.
+    pub fn with_sensor_offset_mm(&self, offset_mm: f64) -> Result<Self, CameraError> {
+        let mut system = self.sampler.tracer.system.clone();
+        let last = system.surfaces.len() - 1;
+        let thickness = system.surfaces[last].thickness_mm + offset_mm;
+        if !(thickness > 0.0 && thickness.is_finite()) {
+            return Err(CameraError::Lens(format!(
+                "a sensor offset of {offset_mm} mm puts the sensor {thickness} mm behind the last vertex"
+            )));
+        }
+        system.surfaces[last].thickness_mm = thickness;
+        Ok(Self::with_system(self.pinhole.clone(), self.settings.clone(), system))
+    }
+
     /// The frame, resolution and paraxial field, as a pinhole.
     pub fn pinhole(&self) -> &Pinhole {
         &self.pinhole

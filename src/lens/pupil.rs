@@ -31,6 +31,13 @@
 //!   point's azimuth. Where the disc about the rectangle's centre that holds the same points
 //!   is smaller (round pupils, near the axis) it is drawn from instead. A region of passing rays thinner than the widening could be missed (the
 //!   one approximation, as in pbrt); the tests check the irradiance against the disc's.
+//!
+//! With ghosts on, the bounds are not enough: they hold the rays whose *transmitted* path
+//! passes, and a ghost path can start outside them (a ray that would be vignetted further in
+//! is reflected back before it gets there). [`GhostMixture`] then aims with the bounds or the
+//! whole disc and weights by the mixture's density, so that every ghost path is drawn
+//! (tests/lens_ghosts.rs checks its ghost light against the disc's alone, and that the bounds
+//! alone miss some).
 
 use glam::DVec3;
 
@@ -136,6 +143,16 @@ impl PupilRegion {
         }
     }
 
+    /// Whether it holds the point `xy` (mm).
+    pub fn contains(&self, xy: [f64; 2]) -> bool {
+        match *self {
+            PupilRegion::Rectangle([x0, y0, x1, y1]) => {
+                (x0..=x1).contains(&xy[0]) && (y0..=y1).contains(&xy[1])
+            }
+            PupilRegion::Disc([x, y, r]) => (xy[0] - x).hypot(xy[1] - y) <= r,
+        }
+    }
+
     /// A uniform point of it from the uniform pair `u`.
     fn point(&self, u: [f64; 2]) -> [f64; 2] {
         match *self {
@@ -194,21 +211,95 @@ impl ExitPupilBounds {
         Self { max_sensor_radius_mm, bands: out }
     }
 
-    /// A target for the sensor point `sensor_mm` from the uniform pair `u`: uniform in the
-    /// band's region turned to the point's azimuth; `None` when no ray of that band passes.
-    pub fn sample(&self, sensor_mm: [f64; 2], u: [f64; 2]) -> Option<PupilSample> {
+    /// The band's region of the sensor point `sensor_mm` (for points on the +x axis) and the
+    /// sine and cosine of the point's azimuth.
+    fn region_of(&self, sensor_mm: [f64; 2]) -> (Option<PupilRegion>, f64, f64) {
         let radius = sensor_mm[0].hypot(sensor_mm[1]);
         let bands = self.bands.len();
         let band = ((radius / self.max_sensor_radius_mm * bands as f64) as usize).min(bands - 1);
-        let region = self.bands[band]?;
-        let [x, y] = region.point(u);
-        // Rotate from the +x axis to the sensor point's azimuth.
         let (sin, cos) =
             if radius > 0.0 { (sensor_mm[1] / radius, sensor_mm[0] / radius) } else { (0.0, 1.0) };
+        (self.bands[band], sin, cos)
+    }
+
+    /// A target for the sensor point `sensor_mm` from the uniform pair `u`: uniform in the
+    /// band's region turned to the point's azimuth; `None` when no ray of that band passes.
+    pub fn sample(&self, sensor_mm: [f64; 2], u: [f64; 2]) -> Option<PupilSample> {
+        let (region, sin, cos) = self.region_of(sensor_mm);
+        let region = region?;
+        let [x, y] = region.point(u);
+        // Rotate from the +x axis to the sensor point's azimuth.
         Some(PupilSample {
             target_mm: [cos * x - sin * y, sin * x + cos * y],
             pdf_per_mm2: 1.0 / region.area_mm2(),
         })
+    }
+
+    /// The area density (mm⁻²) with which [`Self::sample`] draws `target_mm` for the sensor
+    /// point `sensor_mm`: 1/area inside the band's region (turned to the point's azimuth), 0
+    /// outside it or when no ray of the band passes.
+    pub fn pdf_per_mm2(&self, sensor_mm: [f64; 2], target_mm: [f64; 2]) -> f64 {
+        let (region, sin, cos) = self.region_of(sensor_mm);
+        let Some(region) = region else { return 0.0 };
+        // Rotate from the sensor point's azimuth back to the +x axis.
+        let [x, y] = target_mm;
+        if region.contains([cos * x + sin * y, -sin * x + cos * y]) {
+            1.0 / region.area_mm2()
+        } else {
+            0.0
+        }
+    }
+}
+
+/// Share of camera rays aimed inside the exit-pupil bounds when ghosts are on
+/// ([`SensorSampler::sample`]); the rest are aimed over the whole [`RearDisc`]. The bounds hold
+/// every transmitted path and most ghost light, so most rays go there; the disc's quarter
+/// reaches the ghost paths that start outside them. The transmitted image's noise grows by at
+/// most the ratio of the densities inside the bounds, 1/0.75 in variance.
+pub const GHOST_BOUNDS_SHARE: f64 = 0.75;
+
+/// Ghost aiming: a one-sample mixture of the exit-pupil bounds (with probability
+/// [`GHOST_BOUNDS_SHARE`]) and the whole rear disc, weighted by the mixture's density (the
+/// balance heuristic of Veach & Guibas 1995 in its one-sample form: the estimate
+/// f(t)/(c·pdf_bounds(t) + (1 − c)·pdf_disc(t)) whichever part drew t). The disc holds
+/// every ray that can meet the rear surface inside its clear aperture, which every camera ray
+/// through the lens must, ghost or not; so every path of positive contribution has positive
+/// density, and the estimate is unbiased for ghost paths whose first segment leaves the
+/// transmitted light's bounds (a ray vignetted further in on its way out that is reflected
+/// back before it gets there).
+#[derive(Clone, Copy, Debug)]
+pub struct GhostMixture<'a> {
+    /// The exit-pupil bounds of the transmitted light.
+    pub bounds: &'a ExitPupilBounds,
+    /// The rear element's disc.
+    pub rear: &'a RearDisc,
+}
+
+impl GhostMixture<'_> {
+    /// A target for `sensor_mm` from the uniform pair `u`: u[0] picks the part (below
+    /// [`GHOST_BOUNDS_SHARE`]: the bounds) and is stretched back to [0, 1) for it, so that the
+    /// camera sample uses the same two numbers as without ghosts. `None` when the bounds are
+    /// picked and no transmitted ray of the band passes (a sample of contribution 0: the
+    /// disc's part still reaches whatever ghost paths there are).
+    pub fn sample(&self, sensor_mm: [f64; 2], u: [f64; 2]) -> Option<PupilSample> {
+        let share = GHOST_BOUNDS_SHARE;
+        let target_mm = if u[0] < share {
+            self.bounds.sample(sensor_mm, [u[0] / share, u[1]])?.target_mm
+        } else {
+            self.rear.sample(sensor_mm, [(u[0] - share) / (1.0 - share), u[1]]).target_mm
+        };
+        Some(PupilSample { target_mm, pdf_per_mm2: self.pdf_per_mm2(sensor_mm, target_mm) })
+    }
+
+    /// The mixture's area density (mm⁻²) at `target_mm` for `sensor_mm`.
+    pub fn pdf_per_mm2(&self, sensor_mm: [f64; 2], target_mm: [f64; 2]) -> f64 {
+        let radius = self.rear.radius_mm(sensor_mm[0].hypot(sensor_mm[1]));
+        let disc = if target_mm[0].hypot(target_mm[1]) <= radius {
+            1.0 / (std::f64::consts::PI * radius * radius)
+        } else {
+            0.0
+        };
+        GHOST_BOUNDS_SHARE * self.bounds.pdf_per_mm2(sensor_mm, target_mm) + (1.0 - GHOST_BOUNDS_SHARE) * disc
     }
 }
 
@@ -331,6 +422,9 @@ pub struct SensorSampler {
     pub tracer: LensTracer,
     /// Where rays are aimed.
     pub bounds: ExitPupilBounds,
+    /// The rear element's disc: with ghosts on, part of the rays are aimed over all of it
+    /// ([`GhostMixture`]).
+    pub rear: RearDisc,
     /// The normalisation K.
     pub normalisation: Normalisation,
 }
@@ -348,13 +442,21 @@ impl SensorSampler {
             DEFAULT_PUPIL_GRID,
         );
         let normalisation = Normalisation::measure(&tracer, reference_lambda_nm);
-        Self { tracer, bounds, normalisation }
+        let rear = RearDisc::new(&tracer);
+        Self { tracer, bounds, rear, normalisation }
+    }
+
+    /// The ghost aiming of this lens: its bounds and rear disc.
+    pub fn ghost_mixture(&self) -> GhostMixture<'_> {
+        GhostMixture { bounds: &self.bounds, rear: &self.rear }
     }
 
     /// The camera ray from `sensor_mm` (x, y on the sensor, mm, lens coordinates) aimed by the
     /// uniform pair `u_pupil`, traced per `options` with `next_uniform` for ghost branches;
     /// `None` when it does not reach the scene (its contribution is 0, and the estimator stays
-    /// unbiased: the pdf covers every passing ray).
+    /// unbiased: the pdf covers every passing ray). Aimed inside the exit-pupil bounds without
+    /// ghosts, by the [`GhostMixture`] with them (`options.max_ghost_reflections` > 0 and
+    /// Fresnel on).
     pub fn sample(
         &self,
         sensor_mm: [f64; 2],
@@ -362,7 +464,11 @@ impl SensorSampler {
         options: &TraceOptions,
         next_uniform: &mut dyn FnMut() -> f64,
     ) -> Option<CameraRay> {
-        let pupil = self.bounds.sample(sensor_mm, u_pupil)?;
+        let pupil = if options.fresnel && options.max_ghost_reflections > 0 {
+            self.ghost_mixture().sample(sensor_mm, u_pupil)?
+        } else {
+            self.bounds.sample(sensor_mm, u_pupil)?
+        };
         let sample = self.tracer.trace_from_sensor(sensor_mm, pupil.target_mm, options, next_uniform)?;
         let sensor_weight = self.normalisation.sensor_weight(sensor_mm, &pupil);
         Some(CameraRay { sample, sensor_weight, weight: sensor_weight * sample.throughput })
