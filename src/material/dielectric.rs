@@ -24,9 +24,10 @@
 use num_complex::{Complex32, Complex64};
 
 use crate::optics::metals::MetalEntry;
+use crate::optics::thin_film::lanes::{lossless_stack_lanes, LayerLanes, Lanes, StackLanes};
 use crate::optics::{thin_film_amplitudes, Ior, Layer, ThinFilmAmplitudes};
 use crate::polarization::mueller::JonesDiagonal;
-use crate::spectrum::DenseSpectrum;
+use crate::spectrum::{DenseSpectrum, N_LAMBDA};
 
 /// Most layers a coating may have (checked at load; see `scene::limits`).
 pub const MAX_COATING_LAYERS: usize = 64;
@@ -226,6 +227,72 @@ impl Dielectric {
     }
 }
 
+impl Dielectric {
+    /// [`Dielectric::coated_interface`] at every wavelength lane of a vertex at once: lane i
+    /// has vacuum wavelength `lambda_nm[i]` and glass index `n_glass[i]`, all lanes arrive at
+    /// `cos_theta_i` (signed as there). Lanes outside `live` (bit i: lane i) are zero (their
+    /// inputs need only be finite and positive). A coating of real layers goes through
+    /// [`lossless_stack_lanes`] (all lanes together, in vector arithmetic), each layer's index
+    /// evaluated once per lane (none for a constant one); a lane it cannot take (a layer past its
+    /// critical angle) and every lane of a coating with an absorbing layer, or under the
+    /// s/p-swap fault, takes [`Dielectric::coated_interface`]. The same values to rounding
+    /// (tested).
+    pub fn coated_interfaces(
+        &self,
+        cos_theta_i: f32,
+        n_glass: &[f32; N_LAMBDA],
+        lambda_nm: &[f32; N_LAMBDA],
+        live: u32,
+        fault: Option<CoatingFault>,
+    ) -> [CoatedInterface; N_LAMBDA] {
+        let zero = JonesDiagonal { a: 0.0, b: 0.0, w_re: 0.0, w_im: 0.0 };
+        let mut out = [CoatedInterface { reflection: zero, transmission: zero }; N_LAMBDA];
+        let lossless = self.coating.iter().all(|layer| matches!(layer.index, LayerIndex::Real(_)));
+        let lanes = (lossless && fault != Some(CoatingFault::SpSwapped))
+            .then(|| self.stack_lanes(cos_theta_i, n_glass, lambda_nm, fault == Some(CoatingFault::PhaseDropped)));
+        for lane in (0..N_LAMBDA).filter(|&i| live & (1 << i) != 0) {
+            out[lane] = match &lanes {
+                Some(stack) if stack.valid[lane] => {
+                    let at = |parts: &[Lanes; 2]| Complex32::new(parts[0][lane] as f32, parts[1][lane] as f32);
+                    CoatedInterface {
+                        reflection: JonesDiagonal::new(at(&stack.r_s), at(&stack.r_p)),
+                        transmission: JonesDiagonal::new(at(&stack.flux_s), at(&stack.flux_p)),
+                    }
+                }
+                _ => self.coated_interface(cos_theta_i, n_glass[lane], lambda_nm[lane], fault),
+            };
+        }
+        out
+    }
+
+    /// The coating (all layers real) at every lane, from the side `cos_theta_i` says; with
+    /// `phase_dropped` every layer of zero thickness ([`CoatingFault::PhaseDropped`]).
+    fn stack_lanes(
+        &self,
+        cos_theta_i: f32,
+        n_glass: &[f32; N_LAMBDA],
+        lambda_nm: &[f32; N_LAMBDA],
+        phase_dropped: bool,
+    ) -> StackLanes {
+        let glass: Lanes = n_glass.map(f64::from);
+        let wavenumber: Lanes = lambda_nm.map(|nm| std::f64::consts::TAU / f64::from(nm));
+        let layer_lanes = |layer: &CoatingLayer| LayerLanes {
+            index: match &layer.index {
+                LayerIndex::Real(Ior::Constant(n)) => [f64::from(*n); N_LAMBDA],
+                index => lambda_nm.map(|nm| index.at(nm).re),
+            },
+            thickness_nm: if phase_dropped { 0.0 } else { f64::from(layer.thickness_nm) },
+        };
+        let cos = f64::from(cos_theta_i.abs().min(1.0));
+        let vacuum = [1.0; N_LAMBDA];
+        if cos_theta_i < 0.0 {
+            lossless_stack_lanes(&glass, self.coating.iter().rev().map(layer_lanes), &vacuum, &wavenumber, cos)
+        } else {
+            lossless_stack_lanes(&vacuum, self.coating.iter().map(layer_lanes), &glass, &wavenumber, cos)
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -269,6 +336,48 @@ mod tests {
             let interface = glass.coated_interface(cos_theta_i, 1.5, 550.0, None);
             assert!((interface.reflection.a - expected).abs() < 1e-6, "{}", interface.reflection.a);
             assert!((interface.reflection.a + interface.transmission.a - 1.0).abs() < 1e-6);
+        }
+    }
+
+    /// All lanes at once equal the lane-by-lane evaluation (the complex or the scalar real
+    /// path) to f32 rounding of the elements (2e-6: the amplitudes are narrowed to f32 before
+    /// the elements are formed, and R up to 1 carries a few ulps of f32), for a dispersive
+    /// glass and a dispersive layer, from both sides (total internal reflection included), with
+    /// and without the phase fault, and with dead lanes left zero.
+    #[test]
+    fn all_lanes_at_once_are_each_lane_alone() {
+        let glass = Dielectric {
+            ior: Ior::Constant(1.5),
+            absorption: None,
+            coating: vec![
+                CoatingLayer::dielectric(Ior::Constant(1.38), 99.64),
+                CoatingLayer::dielectric(Ior::Cauchy { a: 2.0, b_um2: 0.02, c_um4: 0.0 }, 134.0),
+                CoatingLayer::dielectric(Ior::Constant(1.62), 84.9),
+            ],
+        };
+        let lambda: [f32; N_LAMBDA] = std::array::from_fn(|i| 365.0 + 58.0 * i as f32);
+        let n_glass: [f32; N_LAMBDA] = std::array::from_fn(|i| 1.53 - 0.004 * i as f32);
+        let live = 0b1011_1101;
+        for fault in [None, Some(CoatingFault::PhaseDropped), Some(CoatingFault::SpSwapped)] {
+            for step in 0..=40 {
+                let cos_theta_i = -1.0 + step as f32 / 20.0;
+                let all = glass.coated_interfaces(cos_theta_i, &n_glass, &lambda, live, fault);
+                for lane in 0..N_LAMBDA {
+                    let expected = if live & (1 << lane) != 0 {
+                        glass.coated_interface(cos_theta_i, n_glass[lane], lambda[lane], fault)
+                    } else {
+                        let zero = JonesDiagonal { a: 0.0, b: 0.0, w_re: 0.0, w_im: 0.0 };
+                        CoatedInterface { reflection: zero, transmission: zero }
+                    };
+                    let got = all[lane];
+                    for (x, y) in [(got.reflection, expected.reflection), (got.transmission, expected.transmission)] {
+                        let worst = [x.a - y.a, x.b - y.b, x.w_re - y.w_re, x.w_im - y.w_im]
+                            .iter()
+                            .fold(0.0_f32, |m, d| m.max(d.abs()));
+                        assert!(worst < 2e-6, "{fault:?} cos {cos_theta_i} lane {lane}: {got:?} vs {expected:?}");
+                    }
+                }
+            }
         }
     }
 }
