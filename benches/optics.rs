@@ -144,34 +144,14 @@ fn optics_benchmarks(c: &mut Criterion) {
                     .zip(&vertex_indices)
                     .zip(&vertex_lambdas)
                     .map(|((&cos, indices), lambdas)| {
-                        let lanes =
+                        let (r, t) =
                             dielectric.coated_interfaces(black_box(cos), black_box(indices), lambdas, all_live, None);
-                        lanes
-                            .iter()
-                            .map(|i| i.reflection.a + i.reflection.w_im + i.transmission.a + i.transmission.w_re)
-                            .sum::<f32>()
+                        (r.a + r.w_im + t.a + t.w_re).values.iter().sum::<f32>()
                     })
                     .sum::<f32>()
             })
         });
     }
-    group.bench_function("tmp_outside_1", |b| {
-        b.iter(|| {
-            cosines
-                .iter()
-                .zip(&vertex_indices)
-                .zip(&vertex_lambdas)
-                .map(|((&cos, indices), lambdas)| {
-                    let lanes =
-                        coated_1.coated_interfaces(black_box(cos.abs()), black_box(indices), lambdas, all_live, None);
-                    lanes
-                        .iter()
-                        .map(|i| i.reflection.a + i.reflection.w_im + i.transmission.a + i.transmission.w_re)
-                        .sum::<f32>()
-                })
-                .sum::<f32>()
-        })
-    });
     group.finish();
 
     // A whole vertex's interface work in the polarised path tracer (what
@@ -228,10 +208,8 @@ fn optics_benchmarks(c: &mut Criterion) {
                     .zip(&vertex_lambdas)
                     .zip(&uniforms)
                     .map(|(((&cos, indices), lambdas), &u)| {
-                        let lanes =
+                        let (r, t) =
                             dielectric.coated_interfaces(black_box(cos), black_box(indices), lambdas, all_live, None);
-                        let r = Mueller::from_lanes(&lanes.map(|i| i.reflection));
-                        let t = Mueller::from_lanes(&lanes.map(|i| i.transmission));
                         choose(r, t, u)
                     })
                     .sum::<f32>()

@@ -250,10 +250,14 @@ pub(crate) fn coated_matrices<B: Beam>(
         }
     });
     let lambda_nm: [f32; N_LAMBDA] = std::array::from_fn(|lane| wavelengths.lambda_nm(lane));
-    let interfaces = dielectric.coated_interfaces(cos_theta_i, &n_glass, &lambda_nm, live, coating_fault(fault));
-    let reflection = interfaces.map(|interface| element(fault, interface.reflection));
-    let transmission = interfaces.map(|interface| element(fault, interface.transmission));
-    lane_matrices::<B>(&reflection, &transmission)
+    let (reflection, transmission) =
+        dielectric.coated_interfaces(cos_theta_i, &n_glass, &lambda_nm, live, coating_fault(fault));
+    let element = |matrix: Mueller| if fault == Some(Fault::FlippedPhase) { matrix.phase_flipped() } else { matrix };
+    if B::POLARIZED {
+        (element(reflection), element(transmission))
+    } else {
+        (Mueller::attenuation(reflection.a), Mueller::attenuation(transmission.a))
+    }
 }
 
 /// The reflection and transmission matrices of per-lane Jones elements: Mueller matrices when

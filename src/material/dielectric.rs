@@ -26,8 +26,8 @@ use num_complex::{Complex32, Complex64};
 use crate::optics::metals::MetalEntry;
 use crate::optics::thin_film::lanes::{lossless_stack_lanes, LayerLanes, Lanes, StackLanes};
 use crate::optics::{thin_film_amplitudes, Ior, Layer, ThinFilmAmplitudes};
-use crate::polarization::mueller::JonesDiagonal;
-use crate::spectrum::{DenseSpectrum, N_LAMBDA};
+use crate::polarization::mueller::{JonesDiagonal, Mueller};
+use crate::spectrum::{DenseSpectrum, SampledSpectrum, N_LAMBDA};
 
 /// Most layers a coating may have (checked at load; see `scene::limits`).
 pub const MAX_COATING_LAYERS: usize = 64;
@@ -154,6 +154,23 @@ pub fn coating_amplitudes(
     }
 }
 
+/// The Mueller matrices of Jones matrices diag(x, y) at every lane ([`JonesDiagonal::new`] lane
+/// by lane), x and y given as real and imaginary parts in f64 and narrowed to f32 first.
+#[inline(always)]
+fn elements(x: &[Lanes; 2], y: &[Lanes; 2]) -> Mueller {
+    let narrow_lanes = |parts: &Lanes| SampledSpectrum { values: parts.map(|value| value as f32) };
+    let (x_re, x_im, y_re, y_im) = (narrow_lanes(&x[0]), narrow_lanes(&x[1]), narrow_lanes(&y[0]), narrow_lanes(&y[1]));
+    let power_x = x_re * x_re + x_im * x_im;
+    let power_y = y_re * y_re + y_im * y_im;
+    let half = SampledSpectrum::splat(0.5);
+    Mueller {
+        a: half * (power_x + power_y),
+        b: half * (power_x - power_y),
+        w_re: x_re * y_re + x_im * y_im,
+        w_im: x_im * y_re - x_re * y_im,
+    }
+}
+
 /// A complex amplitude narrowed to f32.
 #[inline]
 pub(crate) fn narrow(z: Complex64) -> Complex32 {
@@ -228,14 +245,16 @@ impl Dielectric {
 }
 
 impl Dielectric {
-    /// [`Dielectric::coated_interface`] at every wavelength lane of a vertex at once: lane i
-    /// has vacuum wavelength `lambda_nm[i]` and glass index `n_glass[i]`, all lanes arrive at
-    /// `cos_theta_i` (signed as there). Lanes outside `live` (bit i: lane i) are zero (their
-    /// inputs need only be finite and positive). A coating of real layers goes through
-    /// [`lossless_stack_lanes`] (all lanes together, in vector arithmetic), each layer's index
-    /// evaluated once per lane (none for a constant one); a lane it cannot take (a layer past its
-    /// critical angle) and every lane of a coating with an absorbing layer, or under the
-    /// s/p-swap fault, takes [`Dielectric::coated_interface`]. The same values to rounding
+    /// [`Dielectric::coated_interface`] at every wavelength lane of a vertex at once, as the
+    /// reflection and transmission [`Mueller`] matrices whose lane i is that lane's
+    /// [`CoatedInterface`] elements: lane i has vacuum wavelength `lambda_nm[i]` and glass index
+    /// `n_glass[i]`, all lanes arrive at `cos_theta_i` (signed as there). Lanes outside `live`
+    /// (bit i: lane i) are zero (their inputs need only be finite and positive). A coating of
+    /// real layers goes through [`lossless_stack_lanes`] (all lanes together, in vector
+    /// arithmetic), each layer's index evaluated once per lane (none for a constant one), and
+    /// the elements are formed in vector arithmetic too, component by component; a lane it
+    /// cannot take, every lane of a coating with an absorbing layer, and every lane under the
+    /// s/p-swap fault take [`Dielectric::coated_interface`]. The same values to f32 rounding
     /// (tested).
     pub fn coated_interfaces(
         &self,
@@ -244,25 +263,38 @@ impl Dielectric {
         lambda_nm: &[f32; N_LAMBDA],
         live: u32,
         fault: Option<CoatingFault>,
-    ) -> [CoatedInterface; N_LAMBDA] {
-        let zero = JonesDiagonal { a: 0.0, b: 0.0, w_re: 0.0, w_im: 0.0 };
-        let mut out = [CoatedInterface { reflection: zero, transmission: zero }; N_LAMBDA];
+    ) -> (Mueller, Mueller) {
+        let zero = SampledSpectrum::splat(0.0);
+        let (mut reflection, mut transmission) = (
+            Mueller { a: zero, b: zero, w_re: zero, w_im: zero },
+            Mueller { a: zero, b: zero, w_re: zero, w_im: zero },
+        );
         let lossless = self.coating.iter().all(|layer| matches!(layer.index, LayerIndex::Real(_)));
-        let lanes = (lossless && fault != Some(CoatingFault::SpSwapped))
-            .then(|| self.stack_lanes(cos_theta_i, n_glass, lambda_nm, fault == Some(CoatingFault::PhaseDropped)));
-        for lane in (0..N_LAMBDA).filter(|&i| live & (1 << i) != 0) {
-            out[lane] = match &lanes {
-                Some(stack) if stack.valid[lane] => {
-                    let at = |parts: &[Lanes; 2]| Complex32::new(parts[0][lane] as f32, parts[1][lane] as f32);
-                    CoatedInterface {
-                        reflection: JonesDiagonal::new(at(&stack.r_s), at(&stack.r_p)),
-                        transmission: JonesDiagonal::new(at(&stack.flux_s), at(&stack.flux_p)),
+        let mut scalar = live;
+        if lossless && fault != Some(CoatingFault::SpSwapped) {
+            let stack = self.stack_lanes(cos_theta_i, n_glass, lambda_nm, fault == Some(CoatingFault::PhaseDropped));
+            // JonesDiagonal::new of the amplitudes narrowed to f32, every lane at once.
+            reflection = elements(&stack.r_s, &stack.r_p);
+            transmission = elements(&stack.flux_s, &stack.flux_p);
+            for lane in (0..N_LAMBDA).filter(|&lane| live & (1 << lane) == 0 || !stack.valid[lane]) {
+                for matrix in [&mut reflection, &mut transmission] {
+                    for component in [&mut matrix.a, &mut matrix.b, &mut matrix.w_re, &mut matrix.w_im] {
+                        component.values[lane] = 0.0;
                     }
                 }
-                _ => self.coated_interface(cos_theta_i, n_glass[lane], lambda_nm[lane], fault),
-            };
+            }
+            scalar &= (0..N_LAMBDA).filter(|&lane| !stack.valid[lane]).fold(0, |bits, lane| bits | 1 << lane);
         }
-        out
+        for lane in (0..N_LAMBDA).filter(|&lane| scalar & (1 << lane) != 0) {
+            let interface = self.coated_interface(cos_theta_i, n_glass[lane], lambda_nm[lane], fault);
+            for (matrix, element) in [(&mut reflection, interface.reflection), (&mut transmission, interface.transmission)] {
+                matrix.a.values[lane] = element.a;
+                matrix.b.values[lane] = element.b;
+                matrix.w_re.values[lane] = element.w_re;
+                matrix.w_im.values[lane] = element.w_im;
+            }
+        }
+        (reflection, transmission)
     }
 
     /// The coating (all layers real) at every lane, from the side `cos_theta_i` says; with
@@ -361,7 +393,7 @@ mod tests {
         for fault in [None, Some(CoatingFault::PhaseDropped), Some(CoatingFault::SpSwapped)] {
             for step in 0..=40 {
                 let cos_theta_i = -1.0 + step as f32 / 20.0;
-                let all = glass.coated_interfaces(cos_theta_i, &n_glass, &lambda, live, fault);
+                let (reflection, transmission) = glass.coated_interfaces(cos_theta_i, &n_glass, &lambda, live, fault);
                 for lane in 0..N_LAMBDA {
                     let expected = if live & (1 << lane) != 0 {
                         glass.coated_interface(cos_theta_i, n_glass[lane], lambda[lane], fault)
@@ -369,12 +401,15 @@ mod tests {
                         let zero = JonesDiagonal { a: 0.0, b: 0.0, w_re: 0.0, w_im: 0.0 };
                         CoatedInterface { reflection: zero, transmission: zero }
                     };
-                    let got = all[lane];
-                    for (x, y) in [(got.reflection, expected.reflection), (got.transmission, expected.transmission)] {
-                        let worst = [x.a - y.a, x.b - y.b, x.w_re - y.w_re, x.w_im - y.w_im]
+                    for (matrix, element) in
+                        [(&reflection, expected.reflection), (&transmission, expected.transmission)]
+                    {
+                        let got = [matrix.a, matrix.b, matrix.w_re, matrix.w_im].map(|c| c.values[lane]);
+                        let worst = got
                             .iter()
-                            .fold(0.0_f32, |m, d| m.max(d.abs()));
-                        assert!(worst < 2e-6, "{fault:?} cos {cos_theta_i} lane {lane}: {got:?} vs {expected:?}");
+                            .zip([element.a, element.b, element.w_re, element.w_im])
+                            .fold(0.0_f32, |m, (x, y)| m.max((x - y).abs()));
+                        assert!(worst < 2e-6, "{fault:?} cos {cos_theta_i} lane {lane}: {got:?} vs {element:?}");
                     }
                 }
             }

@@ -106,10 +106,12 @@ pub fn lossless_stack_lanes(
                 let (sin, cos_beta, exact) = sin_cos_reduced(wavenumber_per_nm[l] * thickness_nm * n_cos);
                 valid[l] &= exact || !propagating[l];
                 // Clamped so that a lane of the other kind stays finite (it is overwritten).
-                let (y_s, y_p) = (n_cos.max(f64::MIN_POSITIVE), n_cos.max(f64::MIN_POSITIVE) / index_sqr);
+                let y_s = n_cos.max(f64::MIN_POSITIVE);
+                let sin_over_y_s = sin / y_s;
                 cos[l] = cos_beta;
-                (b_s[l], c_s[l]) = (sin / y_s, sin * y_s);
-                (b_p[l], c_p[l]) = (sin / y_p, sin * y_p);
+                (b_s[l], c_s[l]) = (sin_over_y_s, sin * y_s);
+                // y_p = y_s / n².
+                (b_p[l], c_p[l]) = (sin_over_y_s * index_sqr, sin * y_s / index_sqr);
             }
         }
         if propagating.iter().any(|&p| !p) {
@@ -148,12 +150,13 @@ pub fn lossless_stack_lanes(
         let root = x.abs().sqrt();
         let (u, v) = if x > 0.0 { (root, 0.0) } else { (0.0, -root) };
         out.valid[l] &= x != 0.0;
-        let inverse_index_sqr = 1.0 / (ns * ns);
+        let (inverse_n0, inverse_ns) = (1.0 / n0, 1.0 / ns);
+        let inverse_index_sqr = inverse_ns * inverse_ns;
         let y0_s = n0 * cos_i;
-        let y0_p = cos_i / n0;
+        let y0_p = cos_i * inverse_n0;
         // 2√(y₀·Re(y_sub)) for s, and for p the same over n₀·n_sub.
         let flux_factor_s = 2.0 * (y0_s * u).sqrt();
-        let flux_factor_p = flux_factor_s / (n0 * ns);
+        let flux_factor_p = flux_factor_s * inverse_n0 * inverse_ns;
         let polarisations = [
             (&s, y0_s, u, v, flux_factor_s, 0),
             (&p, y0_p, u * inverse_index_sqr, v * inverse_index_sqr, flux_factor_p, 1),
