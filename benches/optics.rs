@@ -6,14 +6,21 @@
 //! call. `cargo bench --bench optics`.
 //!
 //! The `interface` group is what a render does at a dielectric interface per wavelength lane
-//! (issue 41's speed target: a coated interface at most 2× a bare one): `bare` is the bare
-//! path's Fresnel terms and the reflection and transmission Jones elements built from them;
-//! `coated_1` and `coated_4` are [`Dielectric::coated_interface`] with a quarter-wave MgF₂
-//! layer and a four-layer stack, which returns the same two elements. Each call takes its own
-//! cos θi (both sides, [−1, 1]) and wavelength (360–830 nm); the glass's n(λ) is given, as
-//! the integrators evaluate it once per lane for both paths. (The integrators' per-lane loop,
-//! `integrator::coated_matrices`, is crate-private; `coated_interface` is its whole cost but
-//! the Mueller assembly.)
+//! (issue 41's speed target: a coated interface at most 2× a bare one per lane), one lane per
+//! call: `bare` is the bare path's Fresnel terms and the reflection and transmission Jones
+//! elements built from them; `coated_1` and `coated_4` are [`Dielectric::coated_interface`]
+//! (one lane alone) with a quarter-wave MgF₂ layer and a four-layer stack, which returns the
+//! same two elements. Each call takes its own cos θi (both sides, [−1, 1]) and wavelength
+//! (360–830 nm); the glass's n(λ) is given, as the integrators evaluate it once per lane for
+//! both paths.
+//!
+//! The `lanes` group is the same per lane with the eight lanes of a vertex together, as the
+//! integrators now evaluate a coating (`Dielectric::coated_interfaces`, whose Mueller matrices
+//! `integrator::coated_matrices` returns as they are): `bare` eight bare evaluations (a
+//! dispersive glass), `coated_*` one call for eight lanes; elements are lanes. The `vertex`
+//! group is a whole vertex's interface work in the polarised path tracer: both Mueller matrices
+//! and the branch choice, for a non-dispersive bare glass (one Fresnel for all lanes), a
+//! dispersive one (eight) and the coatings; elements are vertices.
 
 use std::hint::black_box;
 
@@ -109,9 +116,8 @@ fn optics_benchmarks(c: &mut Criterion) {
     // indices, as a dispersive glass has them): `bare` is eight bare evaluations (the
     // integrators' dispersive path), `coated_*` one `coated_interfaces`. Elements are lanes:
     // time ÷ 8192 is the time per lane.
-    let vertex_lambdas: Vec<[f32; N_LAMBDA]> = (0..CALLS)
-        .map(|v| std::array::from_fn(|lane| wavelengths_nm[(v + lane * 128) % CALLS]))
-        .collect();
+    let vertex_lambdas: Vec<[f32; N_LAMBDA]> =
+        (0..CALLS).map(|v| std::array::from_fn(|lane| wavelengths_nm[(v + lane * 128) % CALLS])).collect();
     let glass = glass_ior("N-BK7").expect("catalogue glass");
     let vertex_indices: Vec<[f32; N_LAMBDA]> =
         vertex_lambdas.iter().map(|lambdas| lambdas.map(|nm| glass.eval(nm))).collect();
@@ -144,8 +150,13 @@ fn optics_benchmarks(c: &mut Criterion) {
                     .zip(&vertex_indices)
                     .zip(&vertex_lambdas)
                     .map(|((&cos, indices), lambdas)| {
-                        let (r, t) =
-                            dielectric.coated_interfaces(black_box(cos), black_box(indices), lambdas, all_live, None);
+                        let (r, t) = dielectric.coated_interfaces(
+                            black_box(cos),
+                            black_box(indices),
+                            lambdas,
+                            all_live,
+                            None,
+                        );
                         (r.a + r.w_im + t.a + t.w_re).values.iter().sum::<f32>()
                     })
                     .sum::<f32>()
@@ -192,7 +203,8 @@ fn optics_benchmarks(c: &mut Criterion) {
                 .zip(&uniforms)
                 .map(|((&cos, indices), &u)| {
                     let fresnel = indices.map(|n| fresnel_dielectric(black_box(cos), black_box(n)));
-                    let r = Mueller::from_lanes(&fresnel.map(|f| JonesDiagonal::dielectric_reflection(cos, &f)));
+                    let r =
+                        Mueller::from_lanes(&fresnel.map(|f| JonesDiagonal::dielectric_reflection(cos, &f)));
                     let t = Mueller::from_lanes(&fresnel.map(|f| JonesDiagonal::dielectric_transmission(&f)));
                     choose(r, t, u)
                 })
@@ -208,8 +220,13 @@ fn optics_benchmarks(c: &mut Criterion) {
                     .zip(&vertex_lambdas)
                     .zip(&uniforms)
                     .map(|(((&cos, indices), lambdas), &u)| {
-                        let (r, t) =
-                            dielectric.coated_interfaces(black_box(cos), black_box(indices), lambdas, all_live, None);
+                        let (r, t) = dielectric.coated_interfaces(
+                            black_box(cos),
+                            black_box(indices),
+                            lambdas,
+                            all_live,
+                            None,
+                        );
                         choose(r, t, u)
                     })
                     .sum::<f32>()

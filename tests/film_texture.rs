@@ -17,7 +17,8 @@ use std::process::Command;
 /// Writes a 16-bit greyscale PNG, `width` × `height`, whose left `split` columns have level
 /// `left` and the rest `right`.
 fn halves_png(path: &Path, width: u32, height: u32, split: u32, (left, right): (u16, u16)) {
-    let levels: Vec<u16> = (0..height).flat_map(|_| (0..width).map(move |i| if i < split { left } else { right })).collect();
+    let levels: Vec<u16> =
+        (0..height).flat_map(|_| (0..width).map(move |i| if i < split { left } else { right })).collect();
     image::ImageBuffer::<image::Luma<u16>, Vec<u16>>::from_raw(width, height, levels)
         .expect("the buffer fits")
         .save(path)
@@ -47,9 +48,12 @@ fn render_pixels(scene_text: &str, path: &Path) -> Vec<[f64; 3]> {
 
 /// The mean XYZ over the image columns `columns` (8 pixels wide).
 fn mean_over(pixels: &[[f64; 3]], columns: std::ops::Range<usize>) -> [f64; 3] {
-    let chosen: Vec<&[f64; 3]> = pixels.iter().enumerate().filter(|(i, _)| columns.contains(&(i % 8))).map(|(_, p)| p).collect();
+    let chosen: Vec<&[f64; 3]> =
+        pixels.iter().enumerate().filter(|(i, _)| columns.contains(&(i % 8))).map(|(_, p)| p).collect();
     let count = chosen.len() as f64;
-    chosen.iter().fold([0.0; 3], |sum, p| [sum[0] + p[0] / count, sum[1] + p[1] / count, sum[2] + p[2] / count])
+    chosen
+        .iter()
+        .fold([0.0; 3], |sum, p| [sum[0] + p[0] / count, sum[1] + p[1] / count, sum[2] + p[2] / count])
 }
 
 #[test]
@@ -101,7 +105,9 @@ fn two_flat_halves_render_the_chart_colour_of_each_thickness() {
             &colour_scene(&format!("type = \"film\"\nior = 1.333\nthickness_nm = {thickness}")),
             &scene_path,
         );
-        for (i, (a, b)) in pixels.iter().zip(&constant).enumerate().filter(|(i, _)| columns.contains(&(i % 8))) {
+        for (i, (a, b)) in
+            pixels.iter().zip(&constant).enumerate().filter(|(i, _)| columns.contains(&(i % 8)))
+        {
             for k in 0..3 {
                 assert!((a[k] - b[k]).abs() / white < 1e-5, "pixel {i}: {a:?} vs constant {b:?}");
             }
@@ -115,10 +121,8 @@ fn two_flat_halves_render_the_chart_colour_of_each_thickness() {
 
 /// The `[materials.film]` of a textured film with `fields` after `texture = "…"`.
 fn textured_scene(texture: &str, fields: &str) -> String {
-    colour_scene(&format!(
-        "type = \"film\"\nthickness_nm = {{ texture = \"{texture}\", {fields} }}"
-    ))
-    .replace("spp = 256", "spp = 1")
+    colour_scene(&format!("type = \"film\"\nthickness_nm = {{ texture = \"{texture}\", {fields} }}"))
+        .replace("spp = 256", "spp = 1")
 }
 
 const FRAME: &str = "corner = [-1, -1, 0], edge1 = [2, 0, 0], edge2 = [0, 2, 0]";
@@ -144,7 +148,10 @@ fn assert_rejected(dir: &Path, scene_text: &str, fragments: &[&str]) {
     for fragment in fragments {
         assert!(stderr.contains(fragment), "missing {fragment:?} in: {stderr}");
     }
-    assert!(!out.exists() || std::fs::read_dir(&out).map_or(0, |d| d.count()) == 0, "output written: {stderr}");
+    assert!(
+        !out.exists() || std::fs::read_dir(&out).map_or(0, |d| d.count()) == 0,
+        "output written: {stderr}"
+    );
     assert!(!stderr.contains("panicked"), "{stderr}");
 }
 
@@ -157,16 +164,43 @@ fn bad_textures_are_one_line_errors() {
     image::RgbImage::new(2, 2).save(path.join("colour.png")).expect("written");
     let field = "materials.film.thickness_nm";
     let cases: [(&str, String, Vec<&str>); 8] = [
-        ("missing", textured_scene("absent.png", &format!("min = 100, max = 900, {FRAME}")), vec!["absent.png", field]),
-        ("not an image", textured_scene("text.png", &format!("min = 100, max = 900, {FRAME}")), vec!["text.png", field]),
-        ("colour", textured_scene("colour.png", &format!("min = 100, max = 900, {FRAME}")), vec!["colour.png", "greyscale"]),
-        ("min > max", textured_scene("good.png", &format!("min = 900, max = 100, {FRAME}")), vec!["thickness_nm.min", "max"]),
-        ("negative", textured_scene("good.png", &format!("min = -5, max = 100, {FRAME}")), vec!["thickness_nm.min", "-5"]),
-        ("absurd", textured_scene("good.png", &format!("min = 5, max = 1e9, {FRAME}")), vec!["thickness_nm.max"]),
+        (
+            "missing",
+            textured_scene("absent.png", &format!("min = 100, max = 900, {FRAME}")),
+            vec!["absent.png", field],
+        ),
+        (
+            "not an image",
+            textured_scene("text.png", &format!("min = 100, max = 900, {FRAME}")),
+            vec!["text.png", field],
+        ),
+        (
+            "colour",
+            textured_scene("colour.png", &format!("min = 100, max = 900, {FRAME}")),
+            vec!["colour.png", "greyscale"],
+        ),
+        (
+            "min > max",
+            textured_scene("good.png", &format!("min = 900, max = 100, {FRAME}")),
+            vec!["thickness_nm.min", "max"],
+        ),
+        (
+            "negative",
+            textured_scene("good.png", &format!("min = -5, max = 100, {FRAME}")),
+            vec!["thickness_nm.min", "-5"],
+        ),
+        (
+            "absurd",
+            textured_scene("good.png", &format!("min = 5, max = 1e9, {FRAME}")),
+            vec!["thickness_nm.max"],
+        ),
         ("missing fields", textured_scene("good.png", "min = 100, max = 900"), vec![field, "edge1"]),
         (
             "parallel edges",
-            textured_scene("good.png", "min = 1, max = 9, corner = [0, 0, 0], edge1 = [1, 0, 0], edge2 = [2, 0, 0]"),
+            textured_scene(
+                "good.png",
+                "min = 1, max = 9, corner = [0, 0, 0], edge1 = [1, 0, 0], edge2 = [2, 0, 0]",
+            ),
             vec!["thickness_nm.edge2", "parallel"],
         ),
     ];

@@ -252,7 +252,8 @@ pub(crate) fn coated_matrices<B: Beam>(
     let lambda_nm: [f32; N_LAMBDA] = std::array::from_fn(|lane| wavelengths.lambda_nm(lane));
     let (reflection, transmission) =
         dielectric.coated_interfaces(cos_theta_i, &n_glass, &lambda_nm, live, coating_fault(fault));
-    let element = |matrix: Mueller| if fault == Some(Fault::FlippedPhase) { matrix.phase_flipped() } else { matrix };
+    let element =
+        |matrix: Mueller| if fault == Some(Fault::FlippedPhase) { matrix.phase_flipped() } else { matrix };
     if B::POLARIZED {
         (element(reflection), element(transmission))
     } else {

@@ -24,7 +24,7 @@
 use num_complex::{Complex32, Complex64};
 
 use crate::optics::metals::MetalEntry;
-use crate::optics::thin_film::lanes::{lossless_stack_lanes, LayerLanes, Lanes, StackLanes};
+use crate::optics::thin_film::lanes::{lossless_stack_lanes, Lanes, LayerLanes, StackLanes};
 use crate::optics::{thin_film_amplitudes, Ior, Layer, ThinFilmAmplitudes};
 use crate::polarization::mueller::{JonesDiagonal, Mueller};
 use crate::spectrum::{DenseSpectrum, SampledSpectrum, N_LAMBDA};
@@ -159,7 +159,8 @@ pub fn coating_amplitudes(
 #[inline(always)]
 fn elements(x: &[Lanes; 2], y: &[Lanes; 2]) -> Mueller {
     let narrow_lanes = |parts: &Lanes| SampledSpectrum { values: parts.map(|value| value as f32) };
-    let (x_re, x_im, y_re, y_im) = (narrow_lanes(&x[0]), narrow_lanes(&x[1]), narrow_lanes(&y[0]), narrow_lanes(&y[1]));
+    let (x_re, x_im, y_re, y_im) =
+        (narrow_lanes(&x[0]), narrow_lanes(&x[1]), narrow_lanes(&y[0]), narrow_lanes(&y[1]));
     let power_x = x_re * x_re + x_im * x_im;
     let power_y = y_re * y_re + y_im * y_im;
     let half = SampledSpectrum::splat(0.5);
@@ -272,7 +273,8 @@ impl Dielectric {
         let lossless = self.coating.iter().all(|layer| matches!(layer.index, LayerIndex::Real(_)));
         let mut scalar = live;
         if lossless && fault != Some(CoatingFault::SpSwapped) {
-            let stack = self.stack_lanes(cos_theta_i, n_glass, lambda_nm, fault == Some(CoatingFault::PhaseDropped));
+            let stack =
+                self.stack_lanes(cos_theta_i, n_glass, lambda_nm, fault == Some(CoatingFault::PhaseDropped));
             // JonesDiagonal::new of the amplitudes narrowed to f32, every lane at once.
             reflection = elements(&stack.r_s, &stack.r_p);
             transmission = elements(&stack.flux_s, &stack.flux_p);
@@ -287,7 +289,9 @@ impl Dielectric {
         }
         for lane in (0..N_LAMBDA).filter(|&lane| scalar & (1 << lane) != 0) {
             let interface = self.coated_interface(cos_theta_i, n_glass[lane], lambda_nm[lane], fault);
-            for (matrix, element) in [(&mut reflection, interface.reflection), (&mut transmission, interface.transmission)] {
+            for (matrix, element) in
+                [(&mut reflection, interface.reflection), (&mut transmission, interface.transmission)]
+            {
                 matrix.a.values[lane] = element.a;
                 matrix.b.values[lane] = element.b;
                 matrix.w_re.values[lane] = element.w_re;
@@ -318,7 +322,13 @@ impl Dielectric {
         let cos = f64::from(cos_theta_i.abs().min(1.0));
         let vacuum = [1.0; N_LAMBDA];
         if cos_theta_i < 0.0 {
-            lossless_stack_lanes(&glass, self.coating.iter().rev().map(layer_lanes), &vacuum, &wavenumber, cos)
+            lossless_stack_lanes(
+                &glass,
+                self.coating.iter().rev().map(layer_lanes),
+                &vacuum,
+                &wavenumber,
+                cos,
+            )
         } else {
             lossless_stack_lanes(&vacuum, self.coating.iter().map(layer_lanes), &glass, &wavenumber, cos)
         }
@@ -393,7 +403,8 @@ mod tests {
         for fault in [None, Some(CoatingFault::PhaseDropped), Some(CoatingFault::SpSwapped)] {
             for step in 0..=40 {
                 let cos_theta_i = -1.0 + step as f32 / 20.0;
-                let (reflection, transmission) = glass.coated_interfaces(cos_theta_i, &n_glass, &lambda, live, fault);
+                let (reflection, transmission) =
+                    glass.coated_interfaces(cos_theta_i, &n_glass, &lambda, live, fault);
                 for lane in 0..N_LAMBDA {
                     let expected = if live & (1 << lane) != 0 {
                         glass.coated_interface(cos_theta_i, n_glass[lane], lambda[lane], fault)
@@ -409,7 +420,10 @@ mod tests {
                             .iter()
                             .zip([element.a, element.b, element.w_re, element.w_im])
                             .fold(0.0_f32, |m, (x, y)| m.max((x - y).abs()));
-                        assert!(worst < 2e-6, "{fault:?} cos {cos_theta_i} lane {lane}: {got:?} vs {element:?}");
+                        assert!(
+                            worst < 2e-6,
+                            "{fault:?} cos {cos_theta_i} lane {lane}: {got:?} vs {element:?}"
+                        );
                     }
                 }
             }

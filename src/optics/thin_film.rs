@@ -65,7 +65,10 @@
 //! (the usual coatings on glass, from either side), take a real-arithmetic path
 //! (`lossless_amplitudes`: real matrices of the form [[a, i·b], [i·c, d]], one reduced sin/cos
 //! per layer) that agrees with the complex one to rounding (tested); the rest take the complex
-//! path.
+//! path. The renderer evaluates a coated dielectric at every wavelength lane of a vertex at once
+//! ([`lanes`]: the same real method, structure-of-arrays and branch-free so that it runs in
+//! vector instructions, with layers past their critical angle kept in the real form through
+//! cosh and sinh).
 
 use num_complex::Complex64;
 

@@ -19,11 +19,11 @@ use super::{IntegratorKind, RenderSettings, Scene, SceneError, Surface};
 use crate::camera::{Camera, LensCamera, LensSettings, Pinhole, ThinLens};
 use crate::geometry::{Geometry, Mesh, Plane, Quad, Shape, Sphere};
 use crate::light::{BeamLight, Light, PointLight, QuadLight, SpotLight};
+use crate::material::film::ThicknessTexture;
 use crate::material::{
     CoatingLayer, Conductor, Dielectric, Diffuse, Film, LayerIndex, Material, Mirror, Polarizer, Retarder,
     Thickness, MAX_COATING_LAYERS,
 };
-use crate::material::film::ThicknessTexture;
 use crate::optics::{catalogue, metals, Ior};
 use crate::spectrum::{DenseSpectrum, Spectrum, LAMBDA_MAX_NM, LAMBDA_MIN_NM, N_LAMBDA};
 
@@ -635,7 +635,10 @@ impl Builder<'_> {
         ];
         if textured.iter().any(|&given| given) {
             if fields.value.is_some() || drained.iter().any(|&given| given) || fields.heights.is_some() {
-                return Err(err("", "a texture takes no `value`, `top`, `bottom`, `axis` or `heights`".into()));
+                return Err(err(
+                    "",
+                    "a texture takes no `value`, `top`, `bottom`, `axis` or `heights`".into(),
+                ));
             }
             return self.film_texture(fields, span, field).map(Thickness::Textured);
         }
@@ -694,18 +697,27 @@ impl Builder<'_> {
         let (Some(file), Some(min), Some(max), Some(corner), Some(edge1), Some(edge2)) =
             (&fields.texture, fields.min, fields.max, fields.corner, fields.edge1, fields.edge2)
         else {
-            return Err(err("", "a texture needs all of `texture`, `min`, `max`, `corner`, `edge1` and `edge2`".into()));
+            return Err(err(
+                "",
+                "a texture needs all of `texture`, `min`, `max`, `corner`, `edge1` and `edge2`".into(),
+            ));
         };
         for (value, at) in [(min, ".min"), (max, ".max")] {
             if !(value.is_finite() && (0.0..=MAX_COATING_THICKNESS_NM).contains(&value)) {
                 return Err(err(
                     at,
-                    format!("must be ≥ 0 and at most {MAX_COATING_THICKNESS_NM} nm (100 µm), got {}", number(value)),
+                    format!(
+                        "must be ≥ 0 and at most {MAX_COATING_THICKNESS_NM} nm (100 µm), got {}",
+                        number(value)
+                    ),
                 ));
             }
         }
         if min > max {
-            return Err(err(".min", format!("must be at most `max` ({} nm), got {} nm", number(max), number(min))));
+            return Err(err(
+                ".min",
+                format!("must be at most `max` ({} nm), got {} nm", number(max), number(min)),
+            ));
         }
         let corner = self.point(corner, span.clone(), &format!("{field}.corner"))?;
         let edge1 = self.direction(edge1, span.clone(), &format!("{field}.edge1"))?;
@@ -715,7 +727,8 @@ impl Builder<'_> {
             return Err(err(".edge2", "must not be parallel to `edge1`".into()));
         }
         let path = self.path.parent().unwrap_or(Path::new("")).join(file);
-        ThicknessTexture::load(&path, min, max, corner, edge1, edge2).map_err(|message| err(".texture", message))
+        ThicknessTexture::load(&path, min, max, corner, edge1, edge2)
+            .map_err(|message| err(".texture", message))
     }
 
     /// The heights of drained films given without `heights`: the extent along the film's axis

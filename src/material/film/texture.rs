@@ -75,7 +75,9 @@ impl ThicknessTexture {
             ));
         }
         let levels: Arc<[f32]> = match image {
-            image::DynamicImage::ImageLuma8(grey) => grey.pixels().map(|p| f32::from(p.0[0]) / 255.0).collect(),
+            image::DynamicImage::ImageLuma8(grey) => {
+                grey.pixels().map(|p| f32::from(p.0[0]) / 255.0).collect()
+            }
             image::DynamicImage::ImageLumaA8(grey) => {
                 grey.pixels().map(|p| f32::from(p.0[0]) / 255.0).collect()
             }

@@ -243,7 +243,8 @@ fn cosh_sinh(t: f64) -> (f64, f64, f64, bool) {
                 + z * (1.0 / 20.0)
                     * (1.0
                         + z * (1.0 / 42.0)
-                            * (1.0 + z * (1.0 / 72.0) * (1.0 + z * (1.0 / 110.0) * (1.0 + z * (1.0 / 156.0))))));
+                            * (1.0
+                                + z * (1.0 / 72.0) * (1.0 + z * (1.0 / 110.0) * (1.0 + z * (1.0 / 156.0))))));
     let small = t_in_range < 0.5;
     let sinh = if small { t_in_range * series_over_t } else { 0.5 * (e - inverse) };
     let sinh_over_t = if small { series_over_t } else { sinh / t_in_range.max(0.5) };
@@ -287,21 +288,24 @@ mod tests {
                 .collect();
             let from_glass = uniform() < 0.5;
             let glass: Lanes = std::array::from_fn(|_| 1.0 + 0.9 * uniform());
-            let (n_ambient, n_substrate) = if from_glass { (glass, [1.0; LANES]) } else { ([1.0; LANES], glass) };
+            let (n_ambient, n_substrate) =
+                if from_glass { (glass, [1.0; LANES]) } else { ([1.0; LANES], glass) };
             let lambda: Lanes = std::array::from_fn(|_| 360.0 + 470.0 * uniform());
             let wavenumber = lambda.map(|nm| std::f64::consts::TAU / nm);
             let cos_i = uniform();
-            let lanes = lossless_stack_lanes(&n_ambient, layers.iter().copied(), &n_substrate, &wavenumber, cos_i);
+            let lanes =
+                lossless_stack_lanes(&n_ambient, layers.iter().copied(), &n_substrate, &wavenumber, cos_i);
             for l in 0..LANES {
-                let scalar_layers: Vec<Layer> =
-                    layers.iter().map(|layer| Layer::dielectric(layer.index[l], layer.thickness_nm)).collect();
+                let scalar_layers: Vec<Layer> = layers
+                    .iter()
+                    .map(|layer| Layer::dielectric(layer.index[l], layer.thickness_nm))
+                    .collect();
                 let invariant = n_ambient[l] * n_ambient[l] * (1.0 - cos_i * cos_i);
                 assert!(lanes.valid[l], "lane {l} refused: {scalar_layers:?}, cos {cos_i}");
-                past_critical += usize::from(
-                    scalar_layers
-                        .iter()
-                        .any(|layer| layer.thickness_nm > 0.0 && layer.index.re * layer.index.re < invariant),
-                );
+                past_critical +=
+                    usize::from(scalar_layers.iter().any(|layer| {
+                        layer.thickness_nm > 0.0 && layer.index.re * layer.index.re < invariant
+                    }));
                 let general = thin_film_amplitudes(
                     n_ambient[l],
                     &scalar_layers,
@@ -317,7 +321,8 @@ mod tests {
                     }
                 };
                 let lane = |parts: &[Lanes; 2]| Complex64::new(parts[0][l], parts[1][l]);
-                let context = format!("lane {l}: {scalar_layers:?}, {n_ambient:?} → {n_substrate:?}, cos {cos_i}");
+                let context =
+                    format!("lane {l}: {scalar_layers:?}, {n_ambient:?} → {n_substrate:?}, cos {cos_i}");
                 for (a, b) in [
                     (lane(&lanes.r_s), general.r_s),
                     (lane(&lanes.r_p), general.r_p),
@@ -332,7 +337,10 @@ mod tests {
             }
         }
         eprintln!("worst difference {worst:e} over {compared} lanes ({past_critical} past a critical angle)");
-        assert!(compared > 2000 && evanescent > 100 && past_critical > 100, "{compared}, {evanescent}, {past_critical}");
+        assert!(
+            compared > 2000 && evanescent > 100 && past_critical > 100,
+            "{compared}, {evanescent}, {past_critical}"
+        );
     }
 
     /// cosh, sinh and sinh t/t against the library's within 4e-16 relative (a few ulps: the
