@@ -723,7 +723,10 @@ impl Builder<'_> {
         let edge1 = self.direction(edge1, span.clone(), &format!("{field}.edge1"))?;
         let edge2 = self.direction(edge2, span.clone(), &format!("{field}.edge2"))?;
         let normal = edge1.cross(edge2);
-        if !(normal.length_squared() > 1e-12 * edge1.length_squared() * edge2.length_squared()) {
+        // sin² of the edges' angle: below 1e-12 (1e-6 rad) the projection's dual basis would be
+        // as large as f32's rounding of the edges allows, and meaningless.
+        let sin_sqr = normal.length_squared() / (edge1.length_squared() * edge2.length_squared());
+        if sin_sqr.is_nan() || sin_sqr <= 1e-12 {
             return Err(err(".edge2", "must not be parallel to `edge1`".into()));
         }
         let path = self.path.parent().unwrap_or(Path::new("")).join(file);
