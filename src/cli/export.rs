@@ -88,10 +88,13 @@ pub fn run(args: &ExportArgs) -> Result<(), CliError> {
             Material::Film(f) => json!({
                 "type": "film",
                 "ior": ior_table(&f.ior),
-                "thickness_nm": match f.thickness {
+                "thickness_nm": match &f.thickness {
                     Thickness::Constant(nm) => json!(nm),
                     Thickness::Drained { top_nm, bottom_nm, axis, low, high } => json!({
                         "top": top_nm, "bottom": bottom_nm, "axis": axis.to_array(), "heights": [low, high],
+                    }),
+                    Thickness::Textured(texture) => json!({
+                        "texture_size": texture.size(), "min": texture.min_nm, "max": texture.max_nm,
                     }),
                 },
             }),

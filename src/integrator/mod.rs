@@ -243,24 +243,26 @@ pub(crate) fn coated_matrices<B: Beam>(
     live: u32,
     glass_ior: impl Fn(usize) -> f32,
 ) -> (Mueller, Mueller) {
-    let zero = JonesDiagonal { a: 0.0, b: 0.0, w_re: 0.0, w_im: 0.0 };
-    let mut reflection = [zero; N_LAMBDA];
-    let mut transmission = [zero; N_LAMBDA];
-    for lane in (0..N_LAMBDA).filter(|&i| live & (1 << i) != 0) {
-        let n_glass = match fault {
+    // All lanes at once (`Dielectric::coated_interfaces`); dead lanes get a placeholder index.
+    let n_glass: [f32; N_LAMBDA] = std::array::from_fn(|lane| {
+        if live & (1 << lane) == 0 {
+            return 1.5;
+        }
+        match fault {
             Some(Fault::IorScale(scale)) => glass_ior(lane) * scale,
             _ => glass_ior(lane),
-        };
-        let interface = dielectric.coated_interface(
-            cos_theta_i,
-            n_glass,
-            wavelengths.lambda_nm(lane),
-            coating_fault(fault),
-        );
-        reflection[lane] = element(fault, interface.reflection);
-        transmission[lane] = element(fault, interface.transmission);
+        }
+    });
+    let lambda_nm: [f32; N_LAMBDA] = std::array::from_fn(|lane| wavelengths.lambda_nm(lane));
+    let (reflection, transmission) =
+        dielectric.coated_interfaces(cos_theta_i, &n_glass, &lambda_nm, live, coating_fault(fault));
+    let element =
+        |matrix: Mueller| if fault == Some(Fault::FlippedPhase) { matrix.phase_flipped() } else { matrix };
+    if B::POLARIZED {
+        (element(reflection), element(transmission))
+    } else {
+        (Mueller::attenuation(reflection.a), Mueller::attenuation(transmission.a))
     }
-    lane_matrices::<B>(&reflection, &transmission)
 }
 
 /// The reflection and transmission matrices of per-lane Jones elements: Mueller matrices when

@@ -24,9 +24,10 @@
 use num_complex::{Complex32, Complex64};
 
 use crate::optics::metals::MetalEntry;
+use crate::optics::thin_film::lanes::{lossless_stack_lanes, Lanes, LayerLanes, StackLanes};
 use crate::optics::{thin_film_amplitudes, Ior, Layer, ThinFilmAmplitudes};
-use crate::polarization::mueller::JonesDiagonal;
-use crate::spectrum::DenseSpectrum;
+use crate::polarization::mueller::{JonesDiagonal, Mueller};
+use crate::spectrum::{DenseSpectrum, SampledSpectrum, N_LAMBDA};
 
 /// Most layers a coating may have (checked at load; see `scene::limits`).
 pub const MAX_COATING_LAYERS: usize = 64;
@@ -153,6 +154,24 @@ pub fn coating_amplitudes(
     }
 }
 
+/// The Mueller matrices of Jones matrices diag(x, y) at every lane ([`JonesDiagonal::new`] lane
+/// by lane), x and y given as real and imaginary parts in f64 and narrowed to f32 first.
+#[inline(always)]
+fn elements(x: &[Lanes; 2], y: &[Lanes; 2]) -> Mueller {
+    let narrow_lanes = |parts: &Lanes| SampledSpectrum { values: parts.map(|value| value as f32) };
+    let (x_re, x_im, y_re, y_im) =
+        (narrow_lanes(&x[0]), narrow_lanes(&x[1]), narrow_lanes(&y[0]), narrow_lanes(&y[1]));
+    let power_x = x_re * x_re + x_im * x_im;
+    let power_y = y_re * y_re + y_im * y_im;
+    let half = SampledSpectrum::splat(0.5);
+    Mueller {
+        a: half * (power_x + power_y),
+        b: half * (power_x - power_y),
+        w_re: x_re * y_re + x_im * y_im,
+        w_im: x_im * y_re - x_re * y_im,
+    }
+}
+
 /// A complex amplitude narrowed to f32.
 #[inline]
 pub(crate) fn narrow(z: Complex64) -> Complex32 {
@@ -226,6 +245,96 @@ impl Dielectric {
     }
 }
 
+impl Dielectric {
+    /// [`Dielectric::coated_interface`] at every wavelength lane of a vertex at once, as the
+    /// reflection and transmission [`Mueller`] matrices whose lane i is that lane's
+    /// [`CoatedInterface`] elements: lane i has vacuum wavelength `lambda_nm[i]` and glass index
+    /// `n_glass[i]`, all lanes arrive at `cos_theta_i` (signed as there). Lanes outside `live`
+    /// (bit i: lane i) are zero (their inputs need only be finite and positive). A coating of
+    /// real layers goes through [`lossless_stack_lanes`] (all lanes together, in vector
+    /// arithmetic), each layer's index evaluated once per lane (none for a constant one), and
+    /// the elements are formed in vector arithmetic too, component by component; a lane it
+    /// cannot take, every lane of a coating with an absorbing layer, and every lane under the
+    /// s/p-swap fault take [`Dielectric::coated_interface`]. The same values to f32 rounding
+    /// (tested).
+    pub fn coated_interfaces(
+        &self,
+        cos_theta_i: f32,
+        n_glass: &[f32; N_LAMBDA],
+        lambda_nm: &[f32; N_LAMBDA],
+        live: u32,
+        fault: Option<CoatingFault>,
+    ) -> (Mueller, Mueller) {
+        let zero = SampledSpectrum::splat(0.0);
+        let (mut reflection, mut transmission) = (
+            Mueller { a: zero, b: zero, w_re: zero, w_im: zero },
+            Mueller { a: zero, b: zero, w_re: zero, w_im: zero },
+        );
+        let lossless = self.coating.iter().all(|layer| matches!(layer.index, LayerIndex::Real(_)));
+        let mut scalar = live;
+        if lossless && fault != Some(CoatingFault::SpSwapped) {
+            let stack =
+                self.stack_lanes(cos_theta_i, n_glass, lambda_nm, fault == Some(CoatingFault::PhaseDropped));
+            // JonesDiagonal::new of the amplitudes narrowed to f32, every lane at once.
+            reflection = elements(&stack.r_s, &stack.r_p);
+            transmission = elements(&stack.flux_s, &stack.flux_p);
+            for lane in (0..N_LAMBDA).filter(|&lane| live & (1 << lane) == 0 || !stack.valid[lane]) {
+                for matrix in [&mut reflection, &mut transmission] {
+                    for component in [&mut matrix.a, &mut matrix.b, &mut matrix.w_re, &mut matrix.w_im] {
+                        component.values[lane] = 0.0;
+                    }
+                }
+            }
+            scalar &= (0..N_LAMBDA).filter(|&lane| !stack.valid[lane]).fold(0, |bits, lane| bits | 1 << lane);
+        }
+        for lane in (0..N_LAMBDA).filter(|&lane| scalar & (1 << lane) != 0) {
+            let interface = self.coated_interface(cos_theta_i, n_glass[lane], lambda_nm[lane], fault);
+            for (matrix, element) in
+                [(&mut reflection, interface.reflection), (&mut transmission, interface.transmission)]
+            {
+                matrix.a.values[lane] = element.a;
+                matrix.b.values[lane] = element.b;
+                matrix.w_re.values[lane] = element.w_re;
+                matrix.w_im.values[lane] = element.w_im;
+            }
+        }
+        (reflection, transmission)
+    }
+
+    /// The coating (all layers real) at every lane, from the side `cos_theta_i` says; with
+    /// `phase_dropped` every layer of zero thickness ([`CoatingFault::PhaseDropped`]).
+    fn stack_lanes(
+        &self,
+        cos_theta_i: f32,
+        n_glass: &[f32; N_LAMBDA],
+        lambda_nm: &[f32; N_LAMBDA],
+        phase_dropped: bool,
+    ) -> StackLanes {
+        let glass: Lanes = n_glass.map(f64::from);
+        let wavenumber: Lanes = lambda_nm.map(|nm| std::f64::consts::TAU / f64::from(nm));
+        let layer_lanes = |layer: &CoatingLayer| LayerLanes {
+            index: match &layer.index {
+                LayerIndex::Real(Ior::Constant(n)) => [f64::from(*n); N_LAMBDA],
+                index => lambda_nm.map(|nm| index.at(nm).re),
+            },
+            thickness_nm: if phase_dropped { 0.0 } else { f64::from(layer.thickness_nm) },
+        };
+        let cos = f64::from(cos_theta_i.abs().min(1.0));
+        let vacuum = [1.0; N_LAMBDA];
+        if cos_theta_i < 0.0 {
+            lossless_stack_lanes(
+                &glass,
+                self.coating.iter().rev().map(layer_lanes),
+                &vacuum,
+                &wavenumber,
+                cos,
+            )
+        } else {
+            lossless_stack_lanes(&vacuum, self.coating.iter().map(layer_lanes), &glass, &wavenumber, cos)
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -269,6 +378,55 @@ mod tests {
             let interface = glass.coated_interface(cos_theta_i, 1.5, 550.0, None);
             assert!((interface.reflection.a - expected).abs() < 1e-6, "{}", interface.reflection.a);
             assert!((interface.reflection.a + interface.transmission.a - 1.0).abs() < 1e-6);
+        }
+    }
+
+    /// All lanes at once equal the lane-by-lane evaluation (the complex or the scalar real
+    /// path) to f32 rounding of the elements (2e-6: the amplitudes are narrowed to f32 before
+    /// the elements are formed, and R up to 1 carries a few ulps of f32), for a dispersive
+    /// glass and a dispersive layer, from both sides (total internal reflection included), with
+    /// and without the phase fault, and with dead lanes left zero.
+    #[test]
+    fn all_lanes_at_once_are_each_lane_alone() {
+        let glass = Dielectric {
+            ior: Ior::Constant(1.5),
+            absorption: None,
+            coating: vec![
+                CoatingLayer::dielectric(Ior::Constant(1.38), 99.64),
+                CoatingLayer::dielectric(Ior::Cauchy { a: 2.0, b_um2: 0.02, c_um4: 0.0 }, 134.0),
+                CoatingLayer::dielectric(Ior::Constant(1.62), 84.9),
+            ],
+        };
+        let lambda: [f32; N_LAMBDA] = std::array::from_fn(|i| 365.0 + 58.0 * i as f32);
+        let n_glass: [f32; N_LAMBDA] = std::array::from_fn(|i| 1.53 - 0.004 * i as f32);
+        let live = 0b1011_1101;
+        for fault in [None, Some(CoatingFault::PhaseDropped), Some(CoatingFault::SpSwapped)] {
+            for step in 0..=40 {
+                let cos_theta_i = -1.0 + step as f32 / 20.0;
+                let (reflection, transmission) =
+                    glass.coated_interfaces(cos_theta_i, &n_glass, &lambda, live, fault);
+                for lane in 0..N_LAMBDA {
+                    let expected = if live & (1 << lane) != 0 {
+                        glass.coated_interface(cos_theta_i, n_glass[lane], lambda[lane], fault)
+                    } else {
+                        let zero = JonesDiagonal { a: 0.0, b: 0.0, w_re: 0.0, w_im: 0.0 };
+                        CoatedInterface { reflection: zero, transmission: zero }
+                    };
+                    for (matrix, element) in
+                        [(&reflection, expected.reflection), (&transmission, expected.transmission)]
+                    {
+                        let got = [matrix.a, matrix.b, matrix.w_re, matrix.w_im].map(|c| c.values[lane]);
+                        let worst = got
+                            .iter()
+                            .zip([element.a, element.b, element.w_re, element.w_im])
+                            .fold(0.0_f32, |m, (x, y)| m.max((x - y).abs()));
+                        assert!(
+                            worst < 2e-6,
+                            "{fault:?} cos {cos_theta_i} lane {lane}: {got:?} vs {element:?}"
+                        );
+                    }
+                }
+            }
         }
     }
 }

@@ -27,13 +27,20 @@
 //! thickness_nm = 300             # or a draining film, thinnest at the top:
 //! # thickness_nm = { top = 150, bottom = 900, axis = [0, 1, 0] }   # heights: the shapes' extent
 //! # thickness_nm = { top = 150, bottom = 900, axis = [0, 1, 0], heights = [-1, 1] }
+//! # or from a greyscale image, black = min, white = max, projected along edge1 × edge2:
+//! # thickness_nm = { texture = "thickness.png", min = 150, max = 900,
+//! #                 corner = [-1, -1, 0], edge1 = [2, 0, 0], edge2 = [0, 2, 0] }
 //! ```
+//! ([`ThicknessTexture`]: the projection, the lookup and the file's format.)
 
 use glam::Vec3;
 use num_complex::{Complex32, Complex64};
 
 use crate::optics::{thin_film_amplitudes, Ior, Layer};
 use crate::polarization::mueller::JonesDiagonal;
+
+mod texture;
+pub use texture::{ThicknessTexture, MAX_TEXTURE_SIZE};
 
 /// A free-standing thin film in air.
 #[derive(Debug, Clone)]
@@ -45,7 +52,7 @@ pub struct Film {
 }
 
 /// A film's thickness over its surface, in nm.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum Thickness {
     /// The same thickness everywhere (nm).
     Constant(f32),
@@ -63,6 +70,8 @@ pub enum Thickness {
         /// Height of the top along `axis` (scene units), > `low`.
         high: f32,
     },
+    /// Read from a greyscale image projected onto the surface ([`ThicknessTexture`]).
+    Textured(ThicknessTexture),
 }
 
 impl Thickness {
@@ -71,6 +80,7 @@ impl Thickness {
     pub fn at(&self, point: Vec3) -> f32 {
         match *self {
             Thickness::Constant(nm) => nm,
+            Thickness::Textured(ref texture) => texture.at(point),
             Thickness::Drained { top_nm, bottom_nm, axis, low, high } => {
                 let depth = ((high - point.dot(axis)) / (high - low)).clamp(0.0, 1.0);
                 (top_nm * top_nm + (bottom_nm * bottom_nm - top_nm * top_nm) * depth).max(0.0).sqrt()

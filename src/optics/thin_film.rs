@@ -65,9 +65,14 @@
 //! (the usual coatings on glass, from either side), take a real-arithmetic path
 //! (`lossless_amplitudes`: real matrices of the form [[a, i·b], [i·c, d]], one reduced sin/cos
 //! per layer) that agrees with the complex one to rounding (tested); the rest take the complex
-//! path.
+//! path. The renderer evaluates a coated dielectric at every wavelength lane of a vertex at once
+//! ([`lanes`]: the same real method, structure-of-arrays and branch-free so that it runs in
+//! vector instructions, with layers past their critical angle kept in the real form through
+//! cosh and sinh).
 
 use num_complex::Complex64;
+
+pub mod lanes;
 
 /// One coherent layer of a stack.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -313,23 +318,34 @@ fn lossless_amplitudes(
     })
 }
 
-/// sin x and cos x of a phase thickness x ≥ 0 (radians), within a few units in the last place:
-/// x reduced by the nearest multiple q of π/2 (Cody and Waite's two-part π/2, exact for
-/// q < 2²⁰, i.e. every phase of a layer of at most 100 µm and index ≤ 100), then the Taylor
-/// series of sin and cos on |r| ≤ π/4 to r¹⁷ and r¹⁸ (the next terms are below 1e-19). About a
-/// quarter of the cost of the library's separate `sin` and `cos`, which is most of a one-layer
-/// stack's. Beyond the exact range (never for the scenes' limits) it defers to the library.
+/// sin x and cos x of a phase thickness x ≥ 0 (radians), within a few units in the last place
+/// ([`sin_cos_reduced`]); beyond its exact range (never for the scenes' limits) the library's.
 #[inline]
 fn sin_cos(x: f64) -> (f64, f64) {
+    match sin_cos_reduced(x) {
+        (sin, cos, true) => (sin, cos),
+        _ => x.sin_cos(),
+    }
+}
+
+/// sin x and cos x of a phase thickness x (radians), and whether they are exact (within a few
+/// units in the last place): x reduced by the nearest multiple q of π/2 (Cody and Waite's
+/// two-part π/2, exact for |q| < 2²⁰, i.e. every phase of a layer of at most 100 µm and index
+/// ≤ 100), then the Taylor series of sin and cos on |r| ≤ π/4 to r¹⁷ and r¹⁸ (the next terms
+/// are below 1e-19). About a quarter of the cost of the library's separate `sin` and `cos`,
+/// which is most of a one-layer stack's. No branch (the quadrant is chosen by selects), so that
+/// a loop over wavelength lanes ([`lanes`]) vectorises; `false` (x too large, or NaN) leaves
+/// the caller to the library.
+#[inline(always)]
+fn sin_cos_reduced(x: f64) -> (f64, f64, bool) {
     // π/2 = PI_2_HIGH + PI_2_LOW: the high part's 33 significant bits make q·PI_2_HIGH exact.
     const PI_2_HIGH: f64 = 1.570_796_326_734_125_6;
     const PI_2_LOW: f64 = 6.077_100_506_506_192e-11;
-    let quadrant = (x * std::f64::consts::FRAC_2_PI).round();
-    // Also NaN: it falls through to the library.
+    // Ties to even: one vector instruction (ties away from zero is not); either nearest
+    // multiple keeps |r| ≤ π/4.
+    let quadrant = (x * std::f64::consts::FRAC_2_PI).round_ties_even();
+    // Also false for NaN.
     let exact = quadrant.abs() < f64::from(1u32 << 20);
-    if !exact {
-        return x.sin_cos();
-    }
     let r = (x - quadrant * PI_2_HIGH) - quadrant * PI_2_LOW;
     let z = r * r;
     // 1/3!, 1/5!, … and 1/2!, 1/4!, … with alternating signs, Horner in z.
@@ -353,12 +369,14 @@ fn sin_cos(x: f64) -> (f64, f64) {
                                 + z * (-1.0 / 87_178_291_200.0
                                     + z * (1.0 / 20_922_789_888_000.0
                                         + z * (-1.0 / 6_402_373_705_728_000.0)))))))));
-    match (quadrant as i64) & 3 {
-        0 => (sin, cos),
-        1 => (cos, -sin),
-        2 => (-sin, -cos),
-        _ => (-cos, sin),
-    }
+    // Quadrant q: (sin, cos) of x are (s, c), (c, −s), (−s, −c), (−c, s) for q mod 4 = 0…3.
+    // q mod 4 in floating point (exact for |q| < 2²⁰), not through an integer: a float to
+    // integer conversion does not vectorise here (it saturates, element by element).
+    let quarter = quadrant - 4.0 * (0.25 * quadrant).floor();
+    let odd = quarter == 1.0 || quarter == 3.0;
+    let (sin, cos) = if odd { (cos, -sin) } else { (sin, cos) };
+    let (sin, cos) = if quarter >= 2.0 { (-sin, -cos) } else { (sin, cos) };
+    (sin, cos, exact)
 }
 
 /// A medium seen by the wave: its index in the e^{+iωt} convention and n cos θ.

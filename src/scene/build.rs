@@ -19,6 +19,7 @@ use super::{IntegratorKind, RenderSettings, Scene, SceneError, Surface};
 use crate::camera::{Camera, LensCamera, LensSettings, Pinhole, ThinLens};
 use crate::geometry::{Geometry, Mesh, Plane, Quad, Shape, Sphere};
 use crate::light::{BeamLight, Light, PointLight, QuadLight, SpotLight};
+use crate::material::film::ThicknessTexture;
 use crate::material::{
     CoatingLayer, Conductor, Dielectric, Diffuse, Film, LayerIndex, Material, Mirror, Polarizer, Retarder,
     Thickness, MAX_COATING_LAYERS,
@@ -624,6 +625,23 @@ impl Builder<'_> {
             }
         };
         let drained = [fields.top.is_some(), fields.bottom.is_some(), fields.axis.is_some()];
+        let textured = [
+            fields.texture.is_some(),
+            fields.min.is_some(),
+            fields.max.is_some(),
+            fields.corner.is_some(),
+            fields.edge1.is_some(),
+            fields.edge2.is_some(),
+        ];
+        if textured.iter().any(|&given| given) {
+            if fields.value.is_some() || drained.iter().any(|&given| given) || fields.heights.is_some() {
+                return Err(err(
+                    "",
+                    "a texture takes no `value`, `top`, `bottom`, `axis` or `heights`".into(),
+                ));
+            }
+            return self.film_texture(fields, span, field).map(Thickness::Textured);
+        }
         match (fields.value, drained) {
             (Some(value), [false, false, false]) if fields.heights.is_none() => {
                 Ok(Thickness::Constant(check(value, "")?))
@@ -660,9 +678,60 @@ impl Builder<'_> {
             }
             _ => Err(err(
                 "",
-                "give a number, or all of `top`, `bottom` and `axis` (and optionally `heights`)".into(),
+                "give a number, all of `top`, `bottom` and `axis` (and optionally `heights`), or a `texture`"
+                    .into(),
             )),
         }
+    }
+
+    /// A film's thickness from a greyscale image ([`ThicknessTexture`]): all of `texture`,
+    /// `min`, `max`, `corner`, `edge1` and `edge2`; 0 ≤ min ≤ max ≤ [`MAX_COATING_THICKNESS_NM`];
+    /// the edges not parallel; the file (relative to the scene file's folder) a greyscale PNG.
+    fn film_texture(
+        &self,
+        fields: &crate::scene::desc::ThicknessFields,
+        span: std::ops::Range<usize>,
+        field: &str,
+    ) -> Result<ThicknessTexture, SceneError> {
+        let err = |at: &str, message: String| self.error(span.clone(), format!("{field}{at}"), message);
+        let (Some(file), Some(min), Some(max), Some(corner), Some(edge1), Some(edge2)) =
+            (&fields.texture, fields.min, fields.max, fields.corner, fields.edge1, fields.edge2)
+        else {
+            return Err(err(
+                "",
+                "a texture needs all of `texture`, `min`, `max`, `corner`, `edge1` and `edge2`".into(),
+            ));
+        };
+        for (value, at) in [(min, ".min"), (max, ".max")] {
+            if !(value.is_finite() && (0.0..=MAX_COATING_THICKNESS_NM).contains(&value)) {
+                return Err(err(
+                    at,
+                    format!(
+                        "must be ≥ 0 and at most {MAX_COATING_THICKNESS_NM} nm (100 µm), got {}",
+                        number(value)
+                    ),
+                ));
+            }
+        }
+        if min > max {
+            return Err(err(
+                ".min",
+                format!("must be at most `max` ({} nm), got {} nm", number(max), number(min)),
+            ));
+        }
+        let corner = self.point(corner, span.clone(), &format!("{field}.corner"))?;
+        let edge1 = self.direction(edge1, span.clone(), &format!("{field}.edge1"))?;
+        let edge2 = self.direction(edge2, span.clone(), &format!("{field}.edge2"))?;
+        let normal = edge1.cross(edge2);
+        // sin² of the edges' angle: below 1e-12 (1e-6 rad) the projection's dual basis would be
+        // as large as f32's rounding of the edges allows, and meaningless.
+        let sin_sqr = normal.length_squared() / (edge1.length_squared() * edge2.length_squared());
+        if sin_sqr.is_nan() || sin_sqr <= 1e-12 {
+            return Err(err(".edge2", "must not be parallel to `edge1`".into()));
+        }
+        let path = self.path.parent().unwrap_or(Path::new("")).join(file);
+        ThicknessTexture::load(&path, min, max, corner, edge1, edge2)
+            .map_err(|message| err(".texture", message))
     }
 
     /// The heights of drained films given without `heights`: the extent along the film's axis

@@ -415,7 +415,9 @@ pub struct ThicknessDesc(pub ThicknessFields);
 
 /// The table form of a film's thickness: `value` (a constant, nm), or `top` and `bottom` (nm)
 /// along `axis` (pointing up), between `heights` = [bottom, top] in scene units (the extent of
-/// the shapes with the film when absent).
+/// the shapes with the film when absent), or a greyscale `texture` (a PNG, relative to the
+/// scene file) from `min` (black) to `max` (white) nm, laid on `corner + s·edge1 + t·edge2`
+/// (`material::film::ThicknessTexture`).
 #[derive(Debug, Clone, PartialEq, Deserialize, Default)]
 #[serde(deny_unknown_fields)]
 pub struct ThicknessFields {
@@ -429,6 +431,18 @@ pub struct ThicknessFields {
     pub axis: Option<[f32; 3]>,
     /// Heights of the bottom and the top along the unit axis (scene units).
     pub heights: Option<[f32; 2]>,
+    /// A greyscale PNG of the thickness, relative to the scene file.
+    pub texture: Option<String>,
+    /// Thickness (nm) at the texture's black.
+    pub min: Option<f32>,
+    /// Thickness (nm) at the texture's white.
+    pub max: Option<f32>,
+    /// The corner of the parallelogram the texture is laid on (scene units).
+    pub corner: Option<[f32; 3]>,
+    /// Its edge along the image's columns, left to right (scene units).
+    pub edge1: Option<[f32; 3]>,
+    /// Its edge along the image's rows, bottom to top (scene units).
+    pub edge2: Option<[f32; 3]>,
 }
 
 /// Sellmeier coefficients.

@@ -1,5 +1,6 @@
 //! The scene's digest: SHA-256 of the scene file's text and of every mesh file it loads, in the
-//! order the file names them, then of its camera's lens file if it has one. Parts of a split render must come from the same scene: the merge
+//! order the file names them, then of its camera's lens file if it has one, then of its films'
+//! thickness textures. Parts of a split render must come from the same scene: the merge
 //! compares these digests (a scene file is not enough: an OBJ edited between two parts changes
 //! the image).
 
@@ -7,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use sha2::{Digest, Sha256};
 
-use super::desc::{SceneDesc, ShapeDesc};
+use super::desc::{MaterialDesc, SceneDesc, ShapeDesc};
 
 /// Hex SHA-256 of `text` (the scene file at `path`), of each mesh file of `desc` and of its
 /// lens file (`[camera] lens`), each input preceded by its length so that no two different sets
@@ -25,7 +26,9 @@ pub fn scene_digest(text: &str, path: &Path, desc: &SceneDesc) -> String {
         .lens
         .as_ref()
         .map(|lens| path.parent().unwrap_or(Path::new(".")).join(lens.get_ref()));
-    for obj in mesh_files(path, desc).into_iter().chain(lens) {
+    // Then the films' thickness textures, in the order of the materials' names (after the lens,
+    // so that the digest of a scene without one is as it was).
+    for obj in mesh_files(path, desc).into_iter().chain(lens).chain(texture_files(path, desc)) {
         if let Ok(bytes) = std::fs::read(obj) {
             hasher.update((bytes.len() as u64).to_le_bytes());
             hasher.update(&bytes);
@@ -43,6 +46,19 @@ pub fn mesh_files(path: &Path, desc: &SceneDesc) -> Vec<PathBuf> {
             ShapeDesc::Mesh { file, .. } => Some(path.parent().unwrap_or(Path::new(".")).join(file)),
             _ => None,
         })
+        .collect()
+}
+
+/// The films' thickness textures the scene file at `path` loads, in the order of the
+/// materials' names, each as the build opens it (relative to the scene file's directory).
+pub fn texture_files(path: &Path, desc: &SceneDesc) -> Vec<PathBuf> {
+    desc.materials
+        .values()
+        .filter_map(|material| match &material.get_ref().0 {
+            MaterialDesc::Film { thickness_nm, .. } => thickness_nm.0.texture.as_ref(),
+            _ => None,
+        })
+        .map(|file| path.parent().unwrap_or(Path::new(".")).join(file))
         .collect()
 }
 
