@@ -90,6 +90,36 @@ fn render_onto_a_mesh_the_scene_loads_is_refused() {
     assert_eq!(std::fs::read_to_string(&mesh).unwrap(), MESH);
 }
 
+/// A scene seen through a lens-system camera read from `singlet.dat` beside it.
+const LENS_SCENE: &str = "background = 0.5\n[camera]\nposition = [0, 0, -5]\nlook_at = [0, 0, 0]\nlens = \"singlet.dat\"\nsensor_height_mm = 24\nwidth = 8\nheight = 6\n[render]\nspp = 1\n";
+
+/// A soap film whose thickness is read from `thickness.png` beside the scene.
+const TEXTURE_SCENE: &str = "background = 0.5\n[camera]\nposition = [0, 0, -5]\nlook_at = [0, 0, 0]\nfov_y_deg = 40\nwidth = 8\nheight = 6\n[render]\nspp = 1\n[materials.soap]\ntype = \"film\"\nior = 1.33\nthickness_nm = { texture = \"thickness.png\", min = 100, max = 900, corner = [-1, -1, 0], edge1 = [2, 0, 0], edge2 = [0, 2, 0] }\n[[shapes]]\ntype = \"quad\"\ncorner = [-1, -1, 0]\nedge1 = [2, 0, 0]\nedge2 = [0, 2, 0]\nmaterial = \"soap\"\n";
+
+#[test]
+fn render_onto_the_lens_file_the_scene_loads_is_refused() {
+    let (dir, scene) = scene_dir(LENS_SCENE);
+    let lens = dir.path().join("singlet.dat");
+    let original =
+        std::fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join("data/lenses/singlet_nbk7.dat")).unwrap();
+    std::fs::write(&lens, &original).unwrap();
+    let output = render(&scene, &["-o", &text(&dir.path().join("o.exr")), "--stats", &text(&lens)]);
+    assert_refused(&output, &["--stats", "singlet.dat", "the lens file the scene loads"]);
+    assert_eq!(std::fs::read(&lens).unwrap(), original);
+}
+
+#[test]
+fn render_onto_a_texture_the_scene_loads_is_refused() {
+    let (dir, scene) = scene_dir(TEXTURE_SCENE);
+    let texture = dir.path().join("thickness.png");
+    let original =
+        std::fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/soap_film_thickness.png")).unwrap();
+    std::fs::write(&texture, &original).unwrap();
+    let output = render(&scene, &["-o", &text(&dir.path().join("o.exr")), "--preview", &text(&texture)]);
+    assert_refused(&output, &["--preview", "thickness.png", "a texture the scene loads"]);
+    assert_eq!(std::fs::read(&texture).unwrap(), original);
+}
+
 #[test]
 fn export_overwrites_the_scenes_own_mesh_is_refused() {
     let (dir, scene) = scene_dir(MESH_SCENE);

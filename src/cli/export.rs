@@ -44,7 +44,7 @@ pub fn run(args: &ExportArgs) -> Result<(), CliError> {
     let mesh_paths: Vec<PathBuf> =
         (0..scene.geometry.meshes().len()).map(|k| args.output.join(format!("mesh_{k}.obj"))).collect();
     let mut inputs: Vec<(&Path, &str)> = vec![(&args.scene, "the scene file")];
-    inputs.extend(scene.mesh_files.iter().map(|mesh| (mesh.as_path(), "a mesh the scene loads")));
+    inputs.extend(scene.input_files.iter().map(|(file, what)| (file.as_path(), *what)));
     let outputs = std::iter::once(&spectra_path).chain(&mesh_paths).map(|path| ("-o", path.as_path()));
     check_not_inputs(outputs, &inputs).map_err(|e| CliError::Input(e.into()))?;
     let count = ((LAMBDA_MAX_NM - LAMBDA_MIN_NM) / args.step_nm).floor() as usize + 1;

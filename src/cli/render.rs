@@ -278,7 +278,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     if !args.builtin {
         inputs.push((&args.scene, "the scene file"));
     }
-    inputs.extend(scene.mesh_files.iter().map(|mesh| (mesh.as_path(), "a mesh the scene loads")));
+    inputs.extend(scene.input_files.iter().map(|(file, what)| (file.as_path(), *what)));
     if let Some(part) = &args.resume {
         check_regular_input(part, "the part being resumed").map_err(|e| input(anyhow!(e)))?;
         inputs.push((part, "the part being resumed"));

@@ -40,8 +40,8 @@
 use glam::DVec3;
 
 use super::fresnel_stack::{
-    camera_stokes_x, coated_interface_fresnel, interface_fresnel, rotate_row, rotate_then_element, rotation_angle, s_axis,
-    DiagonalElement, InterfaceFresnel, Mueller4, MUELLER_IDENTITY,
+    camera_stokes_x, coated_interface_fresnel, interface_fresnel, rotate_row, rotate_then_element,
+    rotation_angle, s_axis, DiagonalElement, InterfaceFresnel, Mueller4, MUELLER_IDENTITY,
 };
 use super::surface_geometry::{intersect, within_aperture};
 use super::LensSystem;

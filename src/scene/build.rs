@@ -180,7 +180,7 @@ impl Builder<'_> {
             lights,
             background,
             digest: super::digest::scene_digest(self.text, self.path, &desc),
-            mesh_files: super::digest::mesh_files(self.path, &desc),
+            input_files: super::digest::input_files(self.path, &desc),
         })
     }
 

@@ -19,22 +19,32 @@ pub fn scene_digest(text: &str, path: &Path, desc: &SceneDesc) -> String {
     hasher.update((text.len() as u64).to_le_bytes());
     hasher.update(text.as_bytes());
     // A lens-system camera's prescription changes the image as a mesh does (after the meshes,
-    // so that the digest of a scene without a lens is as it was).
-    let lens = desc
-        .camera
-        .get_ref()
-        .lens
-        .as_ref()
-        .map(|lens| path.parent().unwrap_or(Path::new(".")).join(lens.get_ref()));
-    // Then the films' thickness textures, in the order of the materials' names (after the lens,
-    // so that the digest of a scene without one is as it was).
-    for obj in mesh_files(path, desc).into_iter().chain(lens).chain(texture_files(path, desc)) {
+    // so that the digest of a scene without a lens is as it was); then the films' thickness
+    // textures (after the lens, so that the digest of a scene without one is as it was).
+    for (obj, _) in input_files(path, desc) {
         if let Ok(bytes) = std::fs::read(obj) {
             hasher.update((bytes.len() as u64).to_le_bytes());
             hasher.update(&bytes);
         }
     }
     hex(&hasher.finalize())
+}
+
+/// Every file besides itself that the scene file at `path` reads, each as the build opens it
+/// (relative to the scene file's directory) with what it is: its meshes in the order it names
+/// them, the lens-system camera's prescription, the films' thickness textures in the order of
+/// the materials' names. The digest hashes them in this order; no output may replace them.
+pub fn input_files(path: &Path, desc: &SceneDesc) -> Vec<(PathBuf, &'static str)> {
+    let lens = desc
+        .camera
+        .get_ref()
+        .lens
+        .as_ref()
+        .map(|lens| path.parent().unwrap_or(Path::new(".")).join(lens.get_ref()));
+    let meshes = mesh_files(path, desc).into_iter().map(|file| (file, "a mesh the scene loads"));
+    let lens = lens.into_iter().map(|file| (file, "the lens file the scene loads"));
+    let textures = texture_files(path, desc).into_iter().map(|file| (file, "a texture the scene loads"));
+    meshes.chain(lens).chain(textures).collect()
 }
 
 /// The mesh files the scene file at `path` loads, in the order it names them, each as the

@@ -195,7 +195,8 @@ pub struct Scene {
     pub background: DenseSpectrum,
     /// Hex SHA-256 of the scene file and the meshes it loads ([`digest::scene_digest`]).
     pub digest: String,
-    /// The mesh files the scene loaded, as opened (relative to the scene file's directory): the
-    /// inputs besides the scene file that no output may replace.
-    pub mesh_files: Vec<PathBuf>,
+    /// The files besides the scene file that the scene read (meshes, a lens file, textures),
+    /// as opened (relative to the scene file's directory), each with what it is: inputs that no
+    /// output may replace.
+    pub input_files: Vec<(PathBuf, &'static str)>,
 }
