@@ -109,6 +109,9 @@ pub struct PathTracer<'a> {
     background_selection: f32,
     /// True when some material is a polariser or retarder (shadow rays look through them).
     has_sheets: bool,
+    /// Per light (same index as `scene.lights`), the shape it is when it is a quad light, else
+    /// `u32::MAX`: its own shadow rays need not test it ([`crate::geometry::Geometry::occluded_except`]).
+    light_shapes: Vec<u32>,
     /// Each glass's index at a monochromatic render's wavelength.
     indices: MonochromaticIndices,
     /// Validation only: count the quad lights' L S⁺ D X* S⁺ E paths and nothing else
@@ -166,6 +169,13 @@ impl<'a> PathTracer<'a> {
             background_lights,
             background_selection: if background_lights { background_selection(scene) } else { 0.0 },
             has_sheets: scene.materials.iter().any(Material::is_filter),
+            light_shapes: (0..scene.lights.len())
+                .map(|light| {
+                    let is_quad = matches!(scene.lights[light], Light::Quad(_));
+                    let shape = scene.surfaces.iter().position(|s| s.emitter == Some(light as u32));
+                    shape.filter(|_| is_quad).map_or(u32::MAX, |shape| shape as u32)
+                })
+                .collect(),
             indices: MonochromaticIndices::default(),
             only_specular_eye_caustics: false,
         }
@@ -409,34 +419,41 @@ impl<'a> PathTracer<'a> {
         let (normal, shading_normal) = facing(hit, to_viewer);
         // Σ over samples of L_e·G·shape·MIS weight; ρ/π once at the end.
         let mut radiance = SampledSpectrum::zero();
-        let arriving = |sample: &LightSample, stats: &mut TraceStats| -> Option<(f32, SampledSpectrum)> {
-            let cos_theta = shading_normal.dot(sample.to_light);
-            if cos_theta <= 0.0 || normal.dot(sample.to_light) <= 0.0 {
-                return None;
-            }
-            let (response, spectrum) = self.visible::<B>(hit, normal, sample, wavelengths, stats)?;
-            let weight = response
-                * sample.weight
-                * cos_theta
-                * diffuse.shape_factor(shading_normal, sample.to_light, to_viewer);
-            (weight > 0.0).then_some((weight, spectrum))
-        };
-        for light in &self.scene.lights {
+        let arriving =
+            |sample: &LightSample, shape: u32, stats: &mut TraceStats| -> Option<(f32, SampledSpectrum)> {
+                let cos_theta = shading_normal.dot(sample.to_light);
+                if cos_theta <= 0.0 || normal.dot(sample.to_light) <= 0.0 {
+                    return None;
+                }
+                let (response, spectrum) =
+                    self.visible::<B>(hit, normal, sample, shape, wavelengths, stats)?;
+                let weight = response
+                    * sample.weight
+                    * cos_theta
+                    * diffuse.shape_factor(shading_normal, sample.to_light, to_viewer);
+                (weight > 0.0).then_some((weight, spectrum))
+            };
+        for (light, &shape) in self.scene.lights.iter().zip(&self.light_shapes) {
             let mut sum = SampledSpectrum::zero();
             match light {
                 Light::Point(point) => {
-                    if let Some((w, s)) = point.sample(hit.point).and_then(|sample| arriving(&sample, stats))
+                    if let Some((w, s)) =
+                        point.sample(hit.point).and_then(|sample| arriving(&sample, u32::MAX, stats))
                     {
                         sum += s * w;
                     }
                 }
                 Light::Spot(spot) => {
-                    if let Some((w, s)) = spot.sample(hit.point).and_then(|sample| arriving(&sample, stats)) {
+                    if let Some((w, s)) =
+                        spot.sample(hit.point).and_then(|sample| arriving(&sample, u32::MAX, stats))
+                    {
                         sum += s * w;
                     }
                 }
                 Light::Beam(beam) => {
-                    if let Some((w, s)) = beam.sample(hit.point).and_then(|sample| arriving(&sample, stats)) {
+                    if let Some((w, s)) =
+                        beam.sample(hit.point).and_then(|sample| arriving(&sample, u32::MAX, stats))
+                    {
                         sum += s * w;
                     }
                 }
@@ -445,7 +462,7 @@ impl<'a> PathTracer<'a> {
                     let shift = quad_u.take().unwrap_or_else(|| rng.uniform_2d());
                     for index in 0..count {
                         let Some(sample) = quad.sample(hit.point, index, count, shift) else { continue };
-                        let Some((w, s)) = arriving(&sample, stats) else { continue };
+                        let Some((w, s)) = arriving(&sample, shape, stats) else { continue };
                         // `sample.weight` is 1/(n·p_light) per steradian.
                         let mis = if self.fault == Some(Fault::MisWeightsUnnormalized) {
                             1.0
@@ -471,7 +488,7 @@ impl<'a> PathTracer<'a> {
             let selected = selection >= 1.0 || rng.uniform() < selection;
             let pdf = selection * BACKGROUND_PDF;
             let sample = LightSample { to_light, distance: f32::INFINITY, weight: 1.0 / pdf };
-            if let Some((w, s)) = selected.then(|| arriving(&sample, stats)).flatten() {
+            if let Some((w, s)) = selected.then(|| arriving(&sample, u32::MAX, stats)).flatten() {
                 let mis = if self.fault == Some(Fault::MisWeightsUnnormalized) {
                     1.0
                 } else {
@@ -488,12 +505,14 @@ impl<'a> PathTracer<'a> {
     }
 
     /// Whether a light sample is visible from `hit`: the sheets' response and spectrum, or
-    /// `None` when blocked.
+    /// `None` when blocked. `shape` is the light's own quad (`u32::MAX` for none), which the
+    /// shadow ray, stopped short of it, need not test.
     fn visible<B: PathBeam>(
         &self,
         hit: &Hit,
         normal: Vec3,
         sample: &LightSample,
+        shape: u32,
         wavelengths: &SampledWavelengths,
         stats: &mut TraceStats,
     ) -> Option<(f32, SampledSpectrum)> {
@@ -512,7 +531,8 @@ impl<'a> PathTracer<'a> {
         stats.rays += 1;
         let shadow = Ray::new(origin, sample.to_light);
         let reach = sample.distance * (1.0 - visibility::SHADOW_RAY_SHORTENING);
-        (!self.scene.geometry.occluded(&shadow, reach)).then_some((1.0, SampledSpectrum::splat(1.0)))
+        (!self.scene.geometry.occluded_except(&shadow, reach, shape))
+            .then_some((1.0, SampledSpectrum::splat(1.0)))
     }
 
     /// A diffuse bounce: a direction drawn with the cosine density on the side the path
