@@ -266,6 +266,9 @@ impl<'a> PathTracer<'a> {
             if matches!(material, Material::Black) || state.depth >= self.max_depth {
                 return light;
             }
+            // The roulette's number after a diffuse vertex (see `survives`); after any other
+            // vertex, the sampler's next dimension.
+            let mut roulette_u = None;
             let continues = match material {
                 Material::Black => false,
                 Material::Diffuse(diffuse) => {
@@ -273,6 +276,7 @@ impl<'a> PathTracer<'a> {
                     // dimensions (a (0, 2)-sequence), the first quad light's point on the other two.
                     let [bsdf_u1, bsdf_u2, quad_u1, quad_u2] = rng.uniform_4d();
                     let quad_u = Some((quad_u1, quad_u2));
+                    roulette_u = Some(quad_u1);
                     light += self.next_event::<B>(&state, (diffuse, hit), wavelengths, rng, stats, quad_u);
                     self.diffuse_bounce::<B>(&mut state, diffuse, hit, wavelengths, (bsdf_u1, bsdf_u2))
                 }
@@ -317,7 +321,7 @@ impl<'a> PathTracer<'a> {
                 return light;
             }
             state.depth += 1;
-            if !self.survives::<B>(&mut state, rng) {
+            if !self.survives::<B>(&mut state, roulette_u, rng) {
                 return light;
             }
         }
@@ -325,7 +329,21 @@ impl<'a> PathTracer<'a> {
 
     /// Russian roulette from the third bounce on: a path whose strongest live lane's response r
     /// is below 1/[`ROULETTE_SCALE`] survives with probability [`ROULETTE_SCALE`]·r, divided by it.
-    fn survives<B: PathBeam>(&self, state: &mut PathState<B::Response>, rng: &mut PixelRng) -> bool {
+    ///
+    /// The number compared with the survival probability is `u` when given: after a diffuse
+    /// vertex, the first dimension of the quad light's point of its next-event estimate. That
+    /// number steers only this vertex's next-event estimate, which is counted whether or not the
+    /// path survives, and nothing the path meets later (its direction came from the group's
+    /// other dimensions, later vertices from later groups); within one sample it is uniform and
+    /// independent of them, so E[1(u < p)/p · later light] is the later light's expectation:
+    /// unbiased. Over a pixel's samples it is stratified, as the sampler's own dimension was,
+    /// and it saves a fresh padded group per vertex.
+    fn survives<B: PathBeam>(
+        &self,
+        state: &mut PathState<B::Response>,
+        u: Option<f32>,
+        rng: &mut PixelRng,
+    ) -> bool {
         let strongest = state.response.strength().max_value();
         if strongest.is_nan() || strongest <= 0.0 {
             return false;
@@ -334,7 +352,7 @@ impl<'a> PathTracer<'a> {
         if state.depth < ROULETTE_AFTER_BOUNCES || survival >= 1.0 {
             return true;
         }
-        if rng.uniform() >= survival {
+        if u.unwrap_or_else(|| rng.uniform()) >= survival {
             return false;
         }
         state.response = state.response.scaled(SampledSpectrum::splat(1.0 / survival));
