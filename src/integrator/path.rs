@@ -109,6 +109,10 @@ pub struct PathTracer<'a> {
     background_selection: f32,
     /// True when some material is a polariser or retarder (shadow rays look through them).
     has_sheets: bool,
+    /// True when every material is diffuse or black: no vertex can polarise (the lights and the
+    /// background are unpolarised, a diffuse vertex depolarises), so a polarised render's
+    /// response keeps columns 1–3 zero and its light is S0 alone: traced as unpolarised.
+    never_polarized: bool,
     /// Per light (same index as `scene.lights`), the shape it is when it is a quad light, else
     /// `u32::MAX`: its own shadow rays need not test it ([`crate::geometry::Geometry::occluded_except`]).
     light_shapes: Vec<u32>,
@@ -169,6 +173,10 @@ impl<'a> PathTracer<'a> {
             background_lights,
             background_selection: if background_lights { background_selection(scene) } else { 0.0 },
             has_sheets: scene.materials.iter().any(Material::is_filter),
+            never_polarized: scene
+                .materials
+                .iter()
+                .all(|m| matches!(m, Material::Diffuse(_) | Material::Black)),
             light_shapes: (0..scene.lights.len())
                 .map(|light| {
                     let is_quad = matches!(scene.lights[light], Light::Quad(_));
@@ -209,6 +217,12 @@ impl<'a> PathTracer<'a> {
         rng: &mut PixelRng,
         stats: &mut TraceStats,
     ) -> B {
+        if B::POLARIZED && self.never_polarized {
+            // The Stokes response would carry (r, 0, 0, 0) in its column 0 throughout and give
+            // (r·L, 0, 0, 0): the same S0, bit for bit, for a sixth less time per sample (TP6).
+            let light = self.radiance::<SampledSpectrum>(ray, frame_x, wavelengths, rng, stats);
+            return B::unpolarized(light);
+        }
         let mask = wavelengths.active_mask();
         let live = (0..N_LAMBDA).filter(|&i| mask[i] > 0.0).fold(0_u32, |bits, i| bits | 1 << i);
         let first = PathState {
