@@ -3,9 +3,10 @@
 //!
 //! Planes are tested first, four at a time (a scene has a handful), so that their hit bounds
 //! the BVH traversal; then the BVH over spheres, quads and triangles. A scene of at most
-//! `FEW_SPHERES` (4) spheres and nothing else finite (the lab and validation scenes) skips both
-//! the packets and the BVH: its spheres are tested one after another, which finds the same hits
-//! for about half the instructions; so are the planes of any scene with at most `FEW_PLANES` (2). Each ray is prepared once
+//! `FEW_SPHERES` (4) spheres, at most `FEW_QUADS` (2) quads and nothing else finite (the lab and
+//! validation scenes, TP6's quad light) skips the BVH: its spheres are tested one after another
+//! and its quads in their packets, unless the ray leaves every quad's plane, which finds the same
+//! hits for about half the instructions; so are the planes of any scene with at most `FEW_PLANES` (2). Each ray is prepared once
 //! (watertight shear for triangles and quads, inverse direction for the boxes).
 //!
 //! The finite shapes are copied into the BVH's leaves as `Packet`s of four (a quad as its two

@@ -27,7 +27,9 @@
 //! # What a path carries
 //! The camera's [`Response`]: the product of the Mueller matrices met so far, from the camera
 //! outward (`P ← P·R·M`), so that light arriving at the current vertex is recorded as `P·S`.
-//! A diffuse vertex depolarises (the first column kept). Unpolarised renders carry `P₀₀` alone.
+//! A diffuse vertex depolarises (the first column kept). Unpolarised renders carry `P₀₀` alone,
+//! and so do polarised renders of scenes whose materials are all diffuse or black (their light
+//! is S0 alone).
 //! A refraction into a denser medium multiplies radiance by (n_t/n_i)² in the direction light
 //! flows, so the camera side applies 1/η² as Whitted does.
 //!
@@ -60,7 +62,9 @@
 //! # Depth and roulette
 //! `max_depth` bounces of any kind (diffuse, mirror, glass; a sheet counts as one, as in
 //! Whitted). From the third bounce on, a path whose strongest lane's response r is below 1/4
-//! survives with probability 4r, and is divided by it: unbiased ([`ROULETTE_SCALE`]).
+//! survives with probability 4r, and is divided by it: unbiased ([`ROULETTE_SCALE`]). After a
+//! diffuse vertex the number drawn against it is that vertex's quad-point dimension, which
+//! nothing later on the path depends on (`PathTracer::survives`).
 
 use glam::Vec3;
 
