@@ -3,9 +3,10 @@
 //!
 //! Planes are tested first, four at a time (a scene has a handful), so that their hit bounds
 //! the BVH traversal; then the BVH over spheres, quads and triangles. A scene of at most
-//! `FEW_SPHERES` (4) spheres and nothing else finite (the lab and validation scenes) skips both
-//! the packets and the BVH: its spheres are tested one after another, which finds the same hits
-//! for about half the instructions; so are the planes of any scene with at most `FEW_PLANES` (2). Each ray is prepared once
+//! `FEW_SPHERES` (4) spheres, at most `FEW_QUADS` (2) quads and nothing else finite (the lab and
+//! validation scenes, TP6's quad light) skips the BVH: its spheres are tested one after another
+//! and its quads in their packets, unless the ray leaves every quad's plane, which finds the same
+//! hits for about half the instructions; so are the planes of any scene with at most `FEW_PLANES` (2). Each ray is prepared once
 //! (watertight shear for triangles and quads, inverse direction for the boxes).
 //!
 //! The finite shapes are copied into the BVH's leaves as `Packet`s of four (a quad as its two
@@ -26,8 +27,12 @@ use super::packet::{leaf_lanes, pack_leaf, quad_uv, Lane, Packet, PlanePacket};
 use super::triangle::{ShearedRay, TriangleHit};
 use super::{Hit, Mesh, Plane, Ray, Shape, Sphere};
 
-/// At most this many spheres (and no other finite shape) are tested one by one.
+/// At most this many spheres (and no other finite shape but [`FEW_QUADS`] quads) are tested one
+/// by one.
 const FEW_SPHERES: usize = 4;
+/// At most this many quads (beside at most [`FEW_SPHERES`] spheres, and no triangle) are tested
+/// one by one: the quad light of a TP6 box.
+const FEW_QUADS: usize = 2;
 /// At most this many infinite planes are tested one by one (more go four at a time, as the
 /// plane packets test them: cheaper for the five planes of a TP6 box).
 const FEW_PLANES: usize = 2;
@@ -74,14 +79,76 @@ pub struct Geometry {
     /// the 8-wide box tests for a root node whose one box holds everything. A third of the
     /// instructions of a ray in the bundled scenes went to that traversal.
     single_leaf: Option<(u32, u32)>,
-    /// The spheres, when the finite shapes are at most [`FEW_SPHERES`] spheres (the TP6 and
-    /// validation scenes of spheres and planes): rays test them and the planes one after
-    /// another, in the order given, without the packets and the BVH, whose bookkeeping cost
-    /// more than the tests (17 % of the instructions of the ball-lens caustic benchmark).
-    few_spheres: Option<Vec<(u32, Sphere)>>,
+    /// The spheres and quads, when the finite shapes are at most [`FEW_SPHERES`] spheres and
+    /// [`FEW_QUADS`] quads (the TP6 and validation scenes of spheres, planes and a quad light):
+    /// rays test them and the planes one after another, in the order given, without the packets
+    /// and the BVH, whose bookkeeping cost more than the tests (17 % of the instructions of the
+    /// ball-lens caustic benchmark; a third of the geometry's time in TP6 with its quad light).
+    few: Option<Few>,
     /// The infinite planes one by one, in order (tested so when there are at most
     /// [`FEW_PLANES`]).
     plane_list: Vec<(u32, Plane)>,
+}
+
+/// The finite shapes of a scene small enough to test one by one (see `Geometry::few`).
+#[derive(Debug, Clone)]
+struct Few {
+    spheres: Vec<(u32, Sphere)>,
+    /// Each quad's id, corner and unit normal (`edge1 × edge2` normalised; none is degenerate),
+    /// for [`leaves_quad_plane`].
+    quads: Vec<(u32, Vec3, Vec3)>,
+    /// The packets (indices into `Geometry::packets`) that hold the quads' halves: every packet
+    /// but the spheres'. The quads are tested there, four halves at a time, with the leaves' own
+    /// test (the scalar test of each half costs more).
+    quad_packets: Vec<u32>,
+}
+
+impl Few {
+    /// The spheres and quads of `shapes`, if they are all its finite shapes, at most
+    /// [`FEW_SPHERES`] and [`FEW_QUADS`] of them, and no quad is degenerate; `packets` are the
+    /// BVH's leaves.
+    fn of(shapes: &[Shape], packets: &[Packet]) -> Option<Self> {
+        let mut spheres = Vec::new();
+        let mut quads = Vec::new();
+        for (id, shape) in shapes.iter().enumerate() {
+            match shape {
+                Shape::Plane(_) => {}
+                Shape::Sphere(sphere) => spheres.push((id as u32, *sphere)),
+                Shape::Quad(quad) => {
+                    quads.push((id as u32, quad.corner, quad.edge1.cross(quad.edge2).try_normalize()?))
+                }
+                Shape::Triangle { .. } => return None,
+            }
+        }
+        if spheres.len() > FEW_SPHERES || quads.len() > FEW_QUADS {
+            return None;
+        }
+        let quad_packets =
+            (0..packets.len() as u32).filter(|&index| !packets[index as usize].holds_spheres()).collect();
+        Some(Self { spheres, quads, quad_packets })
+    }
+
+    /// Whether every quad but `except` (a shape id, or `u32::MAX` for none) is surely missed by
+    /// `ray` ([`leaves_quad_plane`]).
+    #[inline(always)]
+    fn quads_missed(&self, ray: &Ray, except: u32) -> bool {
+        self.quads.iter().all(|&(id, corner, normal)| {
+            id == except || leaves_quad_plane(ray.origin, ray.dir, corner, normal)
+        })
+    }
+}
+
+/// Whether a ray from `origin` along `dir` surely misses the plane of a quad (corner `corner`,
+/// unit normal `normal`) at every t > 0: the origin lies off the plane by more than 10⁻⁴ of its
+/// distance to the corner (a thousand times the rounding of the signed distance) and the ray
+/// moves away from it. The watertight test then finds no hit either (its t would be negative by
+/// far more than its rounding), so skipping it changes no hit.
+#[inline(always)]
+fn leaves_quad_plane(origin: Vec3, dir: Vec3, corner: Vec3, normal: Vec3) -> bool {
+    let offset = origin - corner;
+    let side = offset.dot(normal);
+    let heading = dir.dot(normal);
+    side * heading > 0.0 && side.abs() > 1e-4 * offset.abs().max_element()
 }
 
 impl Geometry {
@@ -143,19 +210,7 @@ impl Geometry {
             [leaf] => Some(leaf),
             _ => None,
         };
-        let finite = shapes.iter().filter(|shape| !matches!(shape, Shape::Plane(_)));
-        let few_spheres = (finite.clone().count() <= FEW_SPHERES
-            && finite.clone().all(|s| matches!(s, Shape::Sphere(_))))
-        .then(|| {
-            shapes
-                .iter()
-                .enumerate()
-                .filter_map(|(id, shape)| match shape {
-                    Shape::Sphere(sphere) => Some((id as u32, *sphere)),
-                    _ => None,
-                })
-                .collect()
-        });
+        let few = Few::of(&shapes, &packets);
         Self {
             shapes,
             meshes,
@@ -164,21 +219,33 @@ impl Geometry {
             bvh,
             packets,
             single_leaf,
-            few_spheres,
+            few,
         }
     }
 
     /// The nearest hit with t in (0, `t_max`).
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
-        let Some(spheres) = &self.few_spheres else {
+        let Some(few) = &self.few else {
             return self.intersect_bvh(ray, t_max);
         };
         let (plane, mut t_limit) = self.nearest_plane(ray, t_max);
         let mut nearest = None;
-        for (id, sphere) in spheres {
+        for (id, sphere) in &few.spheres {
             if let Some(hit) = sphere.intersect(ray, t_limit, *id) {
                 t_limit = hit.t;
                 nearest = Some(hit);
+            }
+        }
+        if !few.quads_missed(ray, u32::MAX) {
+            let mut sheared = None;
+            let mut quad = None;
+            for &index in &few.quad_packets {
+                if let Some(t) = self.nearest_in_leaf(ray, &mut sheared, index, 1, t_limit, &mut quad) {
+                    t_limit = t;
+                }
+            }
+            if quad.is_some() {
+                return quad.and_then(|quad| self.hit_record(quad));
             }
         }
         nearest.or_else(|| plane.map(|plane| plane.record(ray)))
@@ -376,11 +443,28 @@ impl Geometry {
 
     /// True when anything is hit with t in (0, `t_max`) (shadow rays).
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
-        let Some(spheres) = &self.few_spheres else {
+        self.occluded_except(ray, t_max, u32::MAX)
+    }
+
+    /// [`Self::occluded`] for a shadow ray that ends short of a point on the planar shape
+    /// `except` (a quad light's own quad, by its index in the shapes given to [`Self::build`]):
+    /// a segment that ends before reaching a plane from off it cannot cross it, so `except` may
+    /// be left untested (it is, in a scene of a few spheres and quads). Same answer as
+    /// [`Self::occluded`] for such a ray.
+    pub fn occluded_except(&self, ray: &Ray, t_max: f32, except: u32) -> bool {
+        let Some(few) = &self.few else {
             return self.occluded_bvh(ray, t_max);
         };
-        self.planes_occlude(ray, t_max)
-            || spheres.iter().any(|(_, sphere)| sphere.intersect(ray, t_max, 0).is_some())
+        if self.planes_occlude(ray, t_max)
+            || few.spheres.iter().any(|(_, sphere)| sphere.intersect(ray, t_max, 0).is_some())
+        {
+            return true;
+        }
+        if few.quads_missed(ray, except) {
+            return false;
+        }
+        let mut sheared = None;
+        few.quad_packets.iter().any(|&index| self.occluded_in_leaf(ray, &mut sheared, index, 1, t_max))
     }
 
     /// [`Self::occluded`] for any scene but a few spheres and planes (kept apart as
@@ -609,12 +693,14 @@ mod tests {
     }
 
     #[test]
-    fn a_few_spheres_and_planes_are_tested_directly_with_the_same_hits() {
-        // One plane (tested alone) or three (as a packet) and two overlapping spheres, as in the
-        // TP6 scenes (the direct path); forcing the packets and the BVH for the spheres instead
-        // must give the same hits, bit for bit, and so must a linear scan.
+    fn a_few_spheres_quads_and_planes_are_tested_directly_with_the_same_hits() {
+        // One plane (tested alone) or three (as a packet), two overlapping spheres and none, one
+        // or two quads, as in the TP6 scenes (the direct path); forcing the packets and the BVH
+        // instead must give the same hits, bit for bit, and so must a linear scan. Half the rays
+        // are aimed at a quad, some of them from points on it, so that the quads' plane test
+        // (`leaves_quad_plane`) is met on both sides.
         let mut rng = Rng::new(77);
-        for planes in [1, 3] {
+        for (planes, quads) in [(1, 0), (3, 0), (1, 1), (3, 2)] {
             let mut shapes: Vec<Shape> = (0..planes)
                 .map(|_| {
                     Shape::Plane(Plane {
@@ -627,11 +713,42 @@ mod tests {
                 let center = rng.point_in(Vec3::splat(-10.0), Vec3::splat(10.0));
                 shapes.push(Shape::Sphere(Sphere { center, radius: rng.uniform(2.0, 15.0) }));
             }
+            let mut quad_list = Vec::new();
+            for _ in 0..quads {
+                let quad = Quad {
+                    corner: rng.point_in(Vec3::splat(-20.0), Vec3::splat(20.0)),
+                    edge1: rng.unit_vector() * rng.uniform(1.0, 10.0),
+                    edge2: rng.unit_vector() * rng.uniform(1.0, 10.0),
+                };
+                quad_list.push(quad);
+                shapes.push(Shape::Quad(quad));
+            }
             let direct = Geometry::build(shapes, Vec::new());
-            assert!(direct.few_spheres.is_some(), "a handful of spheres takes the direct path");
-            let packets = Geometry { few_spheres: None, ..direct.clone() };
-            for i in 0..10_000 {
-                let ray = random_ray(&mut rng);
+            assert!(direct.few.is_some(), "a handful of spheres and quads takes the direct path");
+            let packets = Geometry { few: None, ..direct.clone() };
+            for i in 0..20_000 {
+                let mut ray = random_ray(&mut rng);
+                if let Some(quad) = quad_list.get(i % 4) {
+                    let target = quad.point_at(rng.uniform(0.0, 1.0), rng.uniform(0.0, 1.0));
+                    let origin = if i % 8 == 0 {
+                        quad.point_at(rng.uniform(0.0, 1.0), rng.uniform(0.0, 1.0))
+                    } else {
+                        ray.origin
+                    };
+                    let dir = if i % 8 == 0 { ray.dir } else { (target - origin).normalize() };
+                    ray = Ray::new(origin, dir);
+                }
+                if let (Some(quad), true) = (quad_list.get(i % 4), i % 8 != 0) {
+                    // A shadow ray toward the quad, stopped short of it as the integrators stop
+                    // theirs: the quad itself may go untested.
+                    let id = (planes + 2 + i % 4) as u32;
+                    let target = quad.point_at(rng.uniform(0.0, 1.0), rng.uniform(0.0, 1.0));
+                    let reach = (target - ray.origin).length() * (1.0 - 1e-4);
+                    let shadow = Ray::new(ray.origin, (target - ray.origin).normalize());
+                    let blocked = packets.occluded(&shadow, reach);
+                    assert_eq!(direct.occluded_except(&shadow, reach, id), blocked, "ray {shadow:?}");
+                    assert_eq!(direct.occluded(&shadow, reach), blocked, "ray {shadow:?}");
+                }
                 let t_max = if i % 2 == 0 { f32::INFINITY } else { rng.uniform(1.0, 100.0) };
                 let hit = direct.intersect(&ray, t_max);
                 assert_eq!(hit, packets.intersect(&ray, t_max), "ray {ray:?}");
@@ -640,8 +757,8 @@ mod tests {
                 assert_eq!(packets.occluded(&ray, t_max), hit.is_some(), "ray {ray:?}");
             }
         }
-        // Any finite shape other than a sphere keeps the packets and the BVH.
-        assert!(random_soup(&mut rng, 6).few_spheres.is_none());
+        // Any triangle keeps the packets and the BVH.
+        assert!(random_soup(&mut rng, 30).few.is_none());
     }
 
     /// Every spawned ray is checked against the primitive it starts on: planar primitives must
