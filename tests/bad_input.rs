@@ -382,7 +382,7 @@ fn bad_films_are_rejected() {
         &[&line, "materials.glass.thickness_nm.bottom"],
     );
     assert_rejected(&drained("top = 100, bottom = 500"), &["materials.glass.thickness_nm", "axis"]);
-    assert_rejected(&drained("value = 100, top = 100"), &["materials.glass.thickness_nm", "a number, or"]);
+    assert_rejected(&drained("value = 100, top = 100"), &["materials.glass.thickness_nm", "give a number,"]);
     assert_rejected(
         &drained("top = 100, bottom = 500, axis = [0, 0, 0]"),
         &["materials.glass.thickness_nm.axis"],
