@@ -11,6 +11,8 @@
 //!   texture file), exit code 2, no output file;
 //! - **digest**: editing the texture changes the scene digest (parts cannot merge across it).
 
+mod film_chart;
+
 use std::path::Path;
 use std::process::Command;
 
@@ -59,22 +61,7 @@ fn mean_over(pixels: &[[f64; 3]], columns: std::ops::Range<usize>) -> [f64; 3] {
 #[test]
 fn two_flat_halves_render_the_chart_colour_of_each_thickness() {
     let dir = tempfile::tempdir().expect("a temporary directory");
-    let csv = dir.path().join("chart.csv");
-    let output = Command::new(env!("CARGO_BIN_EXE_prisma"))
-        .args(["fresnel", "--film-colours", "--ior", "1.333", "-o"])
-        .arg(&csv)
-        .output()
-        .expect("prisma runs");
-    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
-    let chart: Vec<[f64; 4]> = std::fs::read_to_string(&csv)
-        .expect("the chart was written")
-        .lines()
-        .skip(1)
-        .map(|line| {
-            let v: Vec<f64> = line.split(',').map(|x| x.parse().expect("a number")).collect();
-            [v[0], v[1], v[2], v[3]]
-        })
-        .collect();
+    let chart = film_chart::water_film_chart(dir.path());
     // Levels / 65535 × 655.35 nm = levels / 100 nm: 200 nm on the texture's left half, 450 nm
     // on its right (to f32 rounding, < 1e-4 nm).
     halves_png(&dir.path().join("halves.png"), 64, 8, 32, (20_000, 45_000));

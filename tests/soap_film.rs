@@ -20,8 +20,9 @@
 //! Faults that must fail: the phase of the film dropped (its two faces added incoherently),
 //! s and p swapped, the sign of the phases flipped.
 
+mod film_chart;
+
 use std::path::Path;
-use std::process::Command;
 
 use num_complex::Complex64;
 use prisma::render::{render, Job};
@@ -462,22 +463,7 @@ fn a_bubble_in_a_white_furnace_is_invisible() {
 #[test]
 fn a_film_has_the_colour_of_the_interference_chart() {
     let dir = tempfile::tempdir().expect("a temporary directory");
-    let csv = dir.path().join("chart.csv");
-    let output = Command::new(env!("CARGO_BIN_EXE_prisma"))
-        .args(["fresnel", "--film-colours", "--ior", "1.333", "-o"])
-        .arg(&csv)
-        .output()
-        .expect("prisma runs");
-    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
-    let chart: Vec<[f64; 4]> = std::fs::read_to_string(&csv)
-        .expect("the chart was written")
-        .lines()
-        .skip(1)
-        .map(|line| {
-            let v: Vec<f64> = line.split(',').map(|x| x.parse().expect("a number")).collect();
-            [v[0], v[1], v[2], v[3]]
-        })
-        .collect();
+    let chart = film_chart::water_film_chart(dir.path());
     let render_xyz = |material: &str| {
         // The emitter behind the camera (one-sided, facing the film); the camera looks along
         // +z at the film on z = 0 through a 1° view (cos θ ≥ 0.99996).
