@@ -618,21 +618,28 @@ def transport(args, prisma):
     return lines, summary
 
 
+def replace_section(text, begin, end, block, insert):
+    """`text` with what lies between the markers `begin` and `end` (both included) replaced by
+    `block`, or, where they are absent, with `block` put in by `insert(text, block)`. Notes
+    written by hand belong outside the markers: a run replaces everything between them."""
+    if begin in text and end in text:
+        head, rest = text.split(begin, 1)
+        return head + block + rest.split(end, 1)[1]
+    return insert(text, block)
+
+
 def write_transport_section(out, lines):
     """Replaces the --transport section of `out` (between its markers), or inserts it before the
     first `## ` section after the headline table."""
     text = out.read_text() if out.exists() else "# prisma vs Mitsuba 3: benchmark results\n"
-    block = "\n".join(lines)
-    if TRANSPORT_BEGIN in text and TRANSPORT_END in text:
-        head, rest = text.split(TRANSPORT_BEGIN, 1)
-        text = head + block + rest.split(TRANSPORT_END, 1)[1]
-    else:
+
+    def before_equal_error(text, block):
         anchor = text.find("\n## Rendering at equal error")
         if anchor < 0:
-            text = text.rstrip("\n") + "\n\n" + block + "\n"
-        else:
-            text = text[:anchor + 1] + block + "\n\n" + text[anchor + 1:]
-    out.write_text(text)
+            return text.rstrip("\n") + "\n\n" + block + "\n"
+        return text[:anchor + 1] + block + "\n\n" + text[anchor + 1:]
+
+    out.write_text(replace_section(text, TRANSPORT_BEGIN, TRANSPORT_END, "\n".join(lines), before_equal_error))
 
 
 def main():

@@ -389,18 +389,16 @@ def write(out, bench_scene, lines, row):
     """Replaces this scene's section (between its markers) and headline row of `out`, or adds
     them: the section after the last `bench.py` section, the row at the end of the headline table."""
     text = out.read_text() if out.exists() else "# prisma vs Mitsuba 3: benchmark results\n"
-    block = "\n".join(lines)
-    begin, end = begin_marker(bench_scene), end_marker(bench_scene)
-    if begin in text and end in text:
-        head, rest = text.split(begin, 1)
-        text = head + block + rest.split(end, 1)[1]
-    else:
+
+    def after_the_last_section(text, block):
         anchor = text.rfind("end -->")
         if anchor < 0:
-            text = text.rstrip("\n") + "\n\n" + block + "\n"
-        else:
-            anchor = text.index("\n", anchor) + 1
-            text = text[:anchor] + "\n" + block + "\n" + text[anchor:]
+            return text.rstrip("\n") + "\n\n" + block + "\n"
+        anchor = text.index("\n", anchor) + 1
+        return text[:anchor] + "\n" + block + "\n" + text[anchor:]
+
+    text = bench.replace_section(text, begin_marker(bench_scene), end_marker(bench_scene), "\n".join(lines),
+                                 after_the_last_section)
     rows = text.split("\n")
     existing = [i for i, line in enumerate(rows) if line.startswith(headline_prefix(bench_scene))]
     if existing:
