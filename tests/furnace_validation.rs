@@ -28,13 +28,16 @@ fn a_diffuse_bounce_without_its_cosine_is_caught() {
 }
 
 /// Weights that do not add up to one count each bounce's direct light from the walls twice:
-/// the box is 55 % too bright, the sphere under the sky twice as bright. A point light has no
-/// MIS (no BSDF sample can hit it): the closed sphere cannot see this fault.
+/// the box is 55 % too bright. A point light has no MIS (no BSDF sample can hit it), nor has
+/// the background (gathered by the cosine-sampled bounce alone, `integrator/path.rs`): the
+/// closed sphere and the sphere under the sky cannot see this fault, and pass with it.
 #[test]
 fn mis_weights_that_do_not_add_up_to_one_are_caught() {
-    for name in ["emitting_box", "sphere_under_sky"] {
-        assert!(!passes(name, Some(Fault::MisWeightsUnnormalized)), "{name} did not catch the weights");
-    }
+    assert!(
+        !passes("emitting_box", Some(Fault::MisWeightsUnnormalized)),
+        "the box did not catch the weights"
+    );
+    assert!(passes("sphere_under_sky", Some(Fault::MisWeightsUnnormalized)));
 }
 
 /// A background that lights nothing leaves the sphere under the sky black.
