@@ -51,9 +51,10 @@
 //! for quads (`n` light samples against one BSDF sample).
 //!
 //! **The background is gathered by the drawn direction alone** (weight 1): its radiance is the
-//! same along every direction, so the cosine density is already proportional to everything
-//! in the integrand but visibility, and a next-event direction toward it (uniform over the
-//! sphere, as Mitsuba's `constant` emitter samples) adds a shadow ray and no information. On
+//! same along every direction, so at a Lambertian vertex the cosine density is already
+//! proportional to everything in the integrand but visibility (at an Oren–Nayar one, to all but
+//! its bounded factor), and a next-event direction toward it (uniform over the sphere, as
+//! Mitsuba's `constant` emitter samples) adds a shadow ray and no information. On
 //! the glass-and-mirror room lit by a quad and the sky, dropping it left the error per sample
 //! unchanged (relMSE × spp 0.266 against 0.267 at 1024 spp) at 5.0 rays per sample instead of
 //! 6.0 and 1.28× less CPU (validation/bench/RESULTS.md). Until then a probe of the scene
