@@ -34,7 +34,8 @@ use prisma::validate::metrics::{compare_with, Comparison, Options, Planes};
 /// lit by a 1.5 × 1.5 quad light under the ceiling, emitting down, and a 2 × 1.2 one just in
 /// front of the back wall, facing the camera (which sees it directly); a glass sphere (n = 1.5)
 /// and a mirror sphere on the floor. Monochromatic (550 nm) and polarised.
-const ROOM: &str = r#"
+fn room_text() -> String {
+    let head = r#"
 background = 0.0
 
 [camera]
@@ -75,41 +76,8 @@ ior = 1.5
 [materials.mirror]
 type = "mirror"
 
-[[shapes]] # floor, y = 0
-type = "quad"
-corner = [-3, 0, -4]
-edge1 = [6, 0, 0]
-edge2 = [0, 0, 10]
-material = "floor"
-
-[[shapes]] # ceiling, y = 3.5
-type = "quad"
-corner = [-3, 3.5, -4]
-edge1 = [6, 0, 0]
-edge2 = [0, 0, 10]
-material = "back"
-
-[[shapes]] # back wall, z = 6
-type = "quad"
-corner = [-3, 0, 6]
-edge1 = [6, 0, 0]
-edge2 = [0, 3.5, 0]
-material = "back"
-
-[[shapes]] # left wall, x = 3
-type = "quad"
-corner = [3, 0, -4]
-edge1 = [0, 0, 10]
-edge2 = [0, 3.5, 0]
-material = "left"
-
-[[shapes]] # right wall, x = -3
-type = "quad"
-corner = [-3, 0, -4]
-edge1 = [0, 0, 10]
-edge2 = [0, 3.5, 0]
-material = "right"
-
+"#;
+    let tail = r#"
 [[shapes]]
 type = "sphere"
 center = [1.1, 0.8, 2.5]
@@ -138,8 +106,10 @@ edge2 = [0, 1.2, 0]
 radiance = 3.0
 emit = "edge2_cross_edge1"
 "#;
+    format!("{head}{}{tail}", adjoint::room_walls(["floor", "back", "back", "left", "right"]))
+}
 
-/// Added to [`ROOM`]: a polariser (axis at 30° to x) and, on the camera's side of it, a
+/// Added to [`room_text`]: a polariser (axis at 30° to x) and, on the camera's side of it, a
 /// quarter-wave plate (fast axis at −20°), hanging 0.15 and 0.2 in front of the back light, over
 /// its left part and the back wall's left side: the diffuse wall and
 /// the light seen through them are polarised (linear at 30°, then elliptical: S1–S3 all
@@ -178,9 +148,9 @@ const LIGHT_PATHS_PER_PIXEL: u64 = 1024;
 /// Threads for each render (the test's budget is two cores).
 const THREADS: usize = 2;
 
-/// [`ROOM`], with [`SHEETS`] when `sheets`.
+/// [`room_text`], with [`SHEETS`] when `sheets`.
 fn room(sheets: bool) -> Scene {
-    let text = if sheets { format!("{ROOM}{SHEETS}") } else { ROOM.to_owned() };
+    let text = if sheets { format!("{}{SHEETS}", room_text()) } else { room_text() };
     prisma::scene::parse(&text, std::path::Path::new("adjoint_room.toml")).expect("the room parses")
 }
 
@@ -401,7 +371,7 @@ fn coarse_sphere_obj() -> String {
     obj + &faces
 }
 
-/// Where [`coarse_sphere_obj`] stands in [`ROOM`] (scaled by [`MESH_RADIUS`]).
+/// Where [`coarse_sphere_obj`] stands in [`room_text`] (scaled by [`MESH_RADIUS`]).
 const MESH_CENTRE: [f32; 3] = [0.0, 0.8, 0.6];
 /// Its radius.
 const MESH_RADIUS: f32 = 0.8;
@@ -418,7 +388,7 @@ fn mesh_seen(scene: &Scene) -> Vec<bool> {
     })
 }
 
-/// Shading normals (Veach's thesis §5.3): [`ROOM`] with a coarse diffuse sphere whose vertex
+/// Shading normals (Veach's thesis §5.3): [`room_text`] with a coarse diffuse sphere whose vertex
 /// normals are smooth (an OBJ with `vn`) in front of the spheres. On the pixels that see it,
 /// the light side, which carries the adjoint of the shading normal's BSDF, agrees with the
 /// camera side, and so does the whole image; the light side shading the mesh as the camera
@@ -431,7 +401,7 @@ fn the_two_sides_agree_on_a_smooth_shaded_mesh() {
         "\n[materials.coarse]\ntype = \"diffuse\"\nalbedo = 0.8\n\n[[shapes]]\ntype = \"mesh\"\n\
          file = \"coarse_sphere.obj\"\nscale = {MESH_RADIUS}\nposition = {MESH_CENTRE:?}\nmaterial = \"coarse\"\n"
     );
-    let text = format!("{ROOM}{mesh}");
+    let text = format!("{}{mesh}", room_text());
     let scene = prisma::scene::parse(&text, &dir.path().join("adjoint_mesh.toml")).expect("the room parses");
     let on_mesh = mesh_seen(&scene);
     let mesh_pixels = on_mesh.iter().filter(|&&m| m).count();

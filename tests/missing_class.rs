@@ -407,79 +407,26 @@ fn the_point_light_stand_in_has_the_point_light_power() {
     }
 }
 
+/// A point-light TP6 scene at 96×64: what most cases share.
+const POINT: Case = Case {
+    file: "",
+    cube_edge: 1.0,
+    tube_length: 0.0,
+    spot_back: 0.0,
+    spot_flat_top: true,
+    spp_factor: 1,
+    size: (96, 64),
+};
+
 const CASES: &[Case] = &[
-    Case {
-        file: "tp6_mirror1.toml",
-        cube_edge: 1.0,
-        tube_length: 0.0,
-        spot_back: 0.0,
-        spot_flat_top: true,
-        spp_factor: 1,
-        size: (96, 64),
-    },
-    Case {
-        file: "tp6_mirror2.toml",
-        cube_edge: 1.0,
-        tube_length: 0.0,
-        spot_back: 0.0,
-        spot_flat_top: true,
-        spp_factor: 1,
-        size: (96, 64),
-    },
-    Case {
-        file: "tp6_mirror_front.toml",
-        cube_edge: 1.0,
-        tube_length: 0.0,
-        spot_back: 0.0,
-        spot_flat_top: true,
-        spp_factor: 1,
-        size: (96, 64),
-    },
-    Case {
-        file: "tp6_mirror_glass.toml",
-        cube_edge: 1.0,
-        tube_length: 0.0,
-        spot_back: 0.0,
-        spot_flat_top: true,
-        spp_factor: 1,
-        size: (96, 64),
-    },
-    Case {
-        file: "tp6_mirror_flint.toml",
-        cube_edge: 1.0,
-        tube_length: 0.0,
-        spot_back: 0.0,
-        spot_flat_top: true,
-        spp_factor: 1,
-        size: (96, 64),
-    },
-    Case {
-        file: "brewster_plate.toml",
-        cube_edge: 0.5,
-        tube_length: 0.0,
-        spot_back: 0.0,
-        spot_flat_top: true,
-        spp_factor: 1,
-        size: (96, 64),
-    },
-    Case {
-        file: "polarizer_view.toml",
-        cube_edge: 0.5,
-        tube_length: 0.0,
-        spot_back: 0.0,
-        spot_flat_top: true,
-        spp_factor: 1,
-        size: (96, 64),
-    },
-    Case {
-        file: "glass_sphere_spot.toml",
-        cube_edge: 0.0,
-        tube_length: 1.5,
-        spot_back: 0.0,
-        spot_flat_top: true,
-        spp_factor: 1,
-        size: (112, 63),
-    },
+    Case { file: "tp6_mirror1.toml", ..POINT },
+    Case { file: "tp6_mirror2.toml", ..POINT },
+    Case { file: "tp6_mirror_front.toml", ..POINT },
+    Case { file: "tp6_mirror_glass.toml", ..POINT },
+    Case { file: "tp6_mirror_flint.toml", ..POINT },
+    Case { file: "brewster_plate.toml", cube_edge: 0.5, ..POINT },
+    Case { file: "polarizer_view.toml", cube_edge: 0.5, ..POINT },
+    Case { file: "glass_sphere_spot.toml", cube_edge: 0.0, tube_length: 1.5, size: (112, 63), ..POINT },
     Case {
         file: "cornell_prism_spot.toml",
         cube_edge: 0.0,
@@ -489,15 +436,7 @@ const CASES: &[Case] = &[
         spp_factor: 4,
         size: (112, 63),
     },
-    Case {
-        file: "newton_prism.toml",
-        cube_edge: 0.5,
-        tube_length: 3.0,
-        spot_back: 0.0,
-        spot_flat_top: true,
-        spp_factor: 1,
-        size: (112, 63),
-    },
+    Case { file: "newton_prism.toml", cube_edge: 0.5, tube_length: 3.0, size: (112, 63), ..POINT },
 ];
 
 /// The table: per scene, the class's share of the image's mean Y and its largest share over

@@ -135,7 +135,8 @@ fn circle_of_confusion_matches_the_closed_form() {
 /// one and the back light blurred). Every surface is diffuse, so the light tracer alone counts
 /// every path the camera does, at every pixel. Background black: no light the light side
 /// cannot start.
-const ROOM: &str = r#"
+fn room() -> String {
+    let head = r#"
 background = 0.0
 
 [camera]
@@ -166,41 +167,8 @@ albedo = 0.5
 type = "diffuse"
 albedo = 0.8
 
-[[shapes]] # floor, y = 0
-type = "quad"
-corner = [-3, 0, -4]
-edge1 = [6, 0, 0]
-edge2 = [0, 0, 10]
-material = "floor"
-
-[[shapes]] # ceiling, y = 3.5
-type = "quad"
-corner = [-3, 3.5, -4]
-edge1 = [6, 0, 0]
-edge2 = [0, 0, 10]
-material = "wall"
-
-[[shapes]] # back wall, z = 6
-type = "quad"
-corner = [-3, 0, 6]
-edge1 = [6, 0, 0]
-edge2 = [0, 3.5, 0]
-material = "wall"
-
-[[shapes]] # left wall, x = 3
-type = "quad"
-corner = [3, 0, -4]
-edge1 = [0, 0, 10]
-edge2 = [0, 3.5, 0]
-material = "floor"
-
-[[shapes]] # right wall, x = -3
-type = "quad"
-corner = [-3, 0, -4]
-edge1 = [0, 0, 10]
-edge2 = [0, 3.5, 0]
-material = "wall"
-
+"#;
+    let tail = r#"
 [[shapes]] # in focus
 type = "sphere"
 center = [0.9, 0.6, 0.6]
@@ -229,6 +197,8 @@ edge2 = [0, 0.8, 0]
 radiance = 3.0
 emit = "edge2_cross_edge1"
 "#;
+    format!("{head}{}{tail}", adjoint::room_walls(["floor", "wall", "wall", "floor", "wall"]))
+}
 
 /// The light tracer alone ([`LightTracer::counting_everything`]), seed `seed`: `paths` light
 /// paths over [`THREADS`] threads, divided by `paths`.
@@ -266,14 +236,14 @@ fn compare(scene: &Scene, light: [Vec<f64>; 2], camera: [Vec<f64>; 2]) -> Compar
 
 /// The light tracer's connection to the thin lens (a lens point drawn uniformly, the film point
 /// through the plane of focus, the pinhole's sensitivity from that lens point) and the path
-/// tracer's lens rays estimate the same image: on the diffuse room [`ROOM`], the light tracer
+/// tracer's lens rays estimate the same image: on the diffuse room [`room`], the light tracer
 /// alone and the path tracer alone (two seeds each) pass `prisma validate`'s bias checks over
 /// every pixel, the blurred light on the back wall and the blurred sphere included. The same
 /// light side against the camera side through a pinhole at the lens centre (aperture 0: the
 /// blur a light side that ignored the lens would miss) fails them: the test sees the lens.
 #[test]
 fn the_light_tracer_and_the_path_tracer_agree_through_a_thin_lens() {
-    let scene = parse(ROOM);
+    let scene = parse(&room());
     assert_eq!(scene.settings.integrator, IntegratorKind::Path);
     assert!(matches!(scene.camera, prisma::camera::Camera::ThinLens(_)));
     let pixels = u64::from(scene.camera.width() * scene.camera.height());
@@ -282,7 +252,7 @@ fn the_light_tracer_and_the_path_tracer_agree_through_a_thin_lens() {
     eprint!("light alone vs camera alone, both through the lens: ");
     assert!(passes(&compare(&scene, light.clone(), camera)));
 
-    let pinhole = parse(&ROOM.replace("aperture_radius = 0.15", "aperture_radius = 0"));
+    let pinhole = parse(&room().replace("aperture_radius = 0.15", "aperture_radius = 0"));
     assert!(matches!(pinhole.camera, prisma::camera::Camera::Pinhole(_)));
     let sharp = [camera_side(&pinhole, 1, 512), camera_side(&pinhole, 2, 512)];
     eprint!("the light side through the lens vs a pinhole camera side: ");

@@ -68,3 +68,47 @@ pub fn passes(comparison: &Comparison) -> bool {
     comparison.outlier_fraction - comparison.null_outlier_fraction <= DEFAULT_MAX_OUTLIER_FRACTION
         && comparison.mean_z <= DEFAULT_MAX_MEAN_Z
 }
+
+/// The walls shared by the two rooms rendered from both ends (floor y = 0, ceiling y = 3.5, back
+/// wall z = 6, side walls x = ±3; open toward −z behind the camera) as scene TOML, with the
+/// materials of the floor, ceiling, back, left (x = 3) and right (x = −3) walls in that order.
+pub fn room_walls([floor, ceiling, back, left, right]: [&str; 5]) -> String {
+    format!(
+        r#"[[shapes]] # floor, y = 0
+type = "quad"
+corner = [-3, 0, -4]
+edge1 = [6, 0, 0]
+edge2 = [0, 0, 10]
+material = "{floor}"
+
+[[shapes]] # ceiling, y = 3.5
+type = "quad"
+corner = [-3, 3.5, -4]
+edge1 = [6, 0, 0]
+edge2 = [0, 0, 10]
+material = "{ceiling}"
+
+[[shapes]] # back wall, z = 6
+type = "quad"
+corner = [-3, 0, 6]
+edge1 = [6, 0, 0]
+edge2 = [0, 3.5, 0]
+material = "{back}"
+
+[[shapes]] # left wall, x = 3
+type = "quad"
+corner = [3, 0, -4]
+edge1 = [0, 0, 10]
+edge2 = [0, 3.5, 0]
+material = "{left}"
+
+[[shapes]] # right wall, x = -3
+type = "quad"
+corner = [-3, 0, -4]
+edge1 = [0, 0, 10]
+edge2 = [0, 3.5, 0]
+material = "{right}"
+
+"#
+    )
+}
