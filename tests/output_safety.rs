@@ -5,6 +5,9 @@
 //! leaves no directory, and a FIFO given as a part is refused instead of read forever. Each test
 //! runs the real binary and is named after what it pins.
 
+mod cli;
+
+use cli::{assert_refused, prisma, render, scene_dir, stderr};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
@@ -18,37 +21,8 @@ const MESH: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
 /// The first four bytes of every OpenEXR file.
 const EXR_MAGIC: [u8; 4] = [0x76, 0x2f, 0x31, 0x01];
 
-fn prisma() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_prisma"))
-}
-
-/// A temporary directory holding `scene.toml` with `text`.
-fn scene_dir(text: &str) -> (tempfile::TempDir, PathBuf) {
-    let dir = tempfile::tempdir().expect("temporary directory");
-    let scene = dir.path().join("scene.toml");
-    std::fs::write(&scene, text).expect("scene");
-    (dir, scene)
-}
-
-fn render(scene: &Path, args: &[&str]) -> Output {
-    prisma().arg("render").arg(scene).arg("--quiet").args(args).output().expect("prisma runs")
-}
-
 fn text(path: &Path) -> String {
     path.to_string_lossy().into_owned()
-}
-
-fn stderr(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stderr).into_owned()
-}
-
-fn assert_refused(output: &Output, fragments: &[&str]) {
-    let message = stderr(output);
-    assert_eq!(output.status.code(), Some(2), "{message}");
-    assert_eq!(message.trim_end().lines().count(), 1, "not one line: {message}");
-    for fragment in fragments {
-        assert!(message.contains(fragment), "{fragment:?} missing: {message}");
-    }
 }
 
 /// Two parts of the scene in `dir` (samples 0..1 and 1..2 of 2): `a.exr` and `b.exr`.

@@ -3,31 +3,14 @@
 //! memory, and radiance that overflows. Each test runs the real binary and is named after the
 //! reproducer it pins.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+mod cli;
+
+use cli::{assert_refused, prisma, render, scene_dir, stderr};
+use std::path::Path;
+use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 const SCENE: &str = "background = 0.5\n[camera]\nposition = [0, 0, -5]\nlook_at = [0, 0, 0]\nfov_y_deg = 40\nwidth = 16\nheight = 12\n[render]\nspp = 1\n";
-
-fn prisma() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_prisma"))
-}
-
-/// A temporary directory holding `scene.toml` with `text`.
-fn scene_dir(text: &str) -> (tempfile::TempDir, PathBuf) {
-    let dir = tempfile::tempdir().expect("temporary directory");
-    let scene = dir.path().join("scene.toml");
-    std::fs::write(&scene, text).expect("scene");
-    (dir, scene)
-}
-
-fn render(scene: &Path, args: &[&str]) -> Output {
-    prisma().arg("render").arg(scene).arg("--quiet").args(args).output().expect("prisma runs")
-}
-
-fn stderr(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stderr).into_owned()
-}
 
 /// The names in `dir` other than the scene file.
 fn outputs_in(dir: &Path) -> Vec<String> {
@@ -38,15 +21,6 @@ fn outputs_in(dir: &Path) -> Vec<String> {
         .collect();
     names.sort();
     names
-}
-
-fn assert_refused(output: &Output, fragments: &[&str]) {
-    let message = stderr(output);
-    assert_eq!(output.status.code(), Some(2), "{message}");
-    assert_eq!(message.trim_end().lines().count(), 1, "not one line: {message}");
-    for fragment in fragments {
-        assert!(message.contains(fragment), "{fragment:?} missing: {message}");
-    }
 }
 
 #[test]
