@@ -696,13 +696,14 @@ mod tests {
 
     #[test]
     fn a_few_spheres_quads_and_planes_are_tested_directly_with_the_same_hits() {
-        // One plane (tested alone) or three (as a packet), two overlapping spheres and none, one
-        // or two quads, as in the TP6 scenes (the direct path); forcing the packets and the BVH
+        // No plane, one (tested alone) or three (as a packet), two overlapping spheres and none,
+        // one, two, five or eight quads, as in the TP6 scenes and the glass-and-mirror room (four
+        // walls and a light) (the direct path); forcing the packets and the BVH
         // instead must give the same hits, bit for bit, and so must a linear scan. Half the rays
         // are aimed at a quad, some of them from points on it, so that the quads' plane test
         // (`leaves_quad_plane`) is met on both sides.
         let mut rng = Rng::new(77);
-        for (planes, quads) in [(1, 0), (3, 0), (1, 1), (3, 2)] {
+        for (planes, quads) in [(1, 0), (3, 0), (1, 1), (3, 2), (0, 5), (1, 8)] {
             let mut shapes: Vec<Shape> = (0..planes)
                 .map(|_| {
                     Shape::Plane(Plane {
