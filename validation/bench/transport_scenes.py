@@ -67,9 +67,9 @@ class BenchScene:
 # - room: the light tracer on (`--caustics`: it then counts the quad light's L S⁺ D X* D E paths,
 #   the light the mirror and the glass throw onto the walls and floor, which camera paths find only
 #   by chance; the camera paths leave them out: path.rs's table), 500 light paths per pass (0.13 per
-#   pixel at 75 × 50): relMSE × spp 0.27 → 0.085 at 512 spp for 1.14× the CPU per sample (2.8×
+#   pixel at 75 × 50): relMSE × spp 0.30 → 0.085 at 512 spp for 1.14× the CPU per sample (3.1×
 #   less relMSE × CPU); 250 to 1000 light paths per pass are within 10 % of it, the scene default
-#   of one per pixel (3,750) costs 2.2× more CPU per sample for the same error.
+#   of one per pixel (3,750) costs 2.1× the CPU per sample for a fifth less error (1.7× worse).
 # - room_point: its scene's light tracer (caustics = true) with 500 light paths per pass instead
 #   of one per pixel: the same relMSE × spp (0.237 against 0.235 at 256 spp; the camera paths hold
 #   most of this room's error) for about half the CPU per sample.
