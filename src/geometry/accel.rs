@@ -3,8 +3,8 @@
 //!
 //! Planes are tested first, four at a time (a scene has a handful), so that their hit bounds
 //! the BVH traversal; then the BVH over spheres, quads and triangles. A scene of at most
-//! `FEW_SPHERES` (4) spheres, at most `FEW_QUADS` (2) quads and nothing else finite (the lab and
-//! validation scenes, TP6's quad light) skips the BVH: its spheres are tested one after another
+//! `FEW_SPHERES` (4) spheres, at most `FEW_QUADS` (8) quads and nothing else finite (the lab and
+//! validation scenes, TP6's quad light, the glass-and-mirror room's four walls and light) skips the BVH: its spheres are tested one after another
 //! and its quads in their packets, unless the ray leaves every quad's plane, which finds the same
 //! hits for about half the instructions; so are the planes of any scene with at most `FEW_PLANES` (2). Each ray is prepared once
 //! (watertight shear for triangles and quads, inverse direction for the boxes).
@@ -31,8 +31,10 @@ use super::{Hit, Mesh, Plane, Ray, Shape, Sphere};
 /// by one.
 const FEW_SPHERES: usize = 4;
 /// At most this many quads (beside at most [`FEW_SPHERES`] spheres, and no triangle) are tested
-/// one by one: the quad light of a TP6 box.
-const FEW_QUADS: usize = 2;
+/// one by one: the quad light of a TP6 box, the five quads of the glass-and-mirror room (its
+/// walls and light; 1.12–1.14× less CPU per sample there than through its BVH, same hits:
+/// validation/bench/PROFILE.md). Eight quads are four packets of halves.
+const FEW_QUADS: usize = 8;
 /// At most this many infinite planes are tested one by one (more go four at a time, as the
 /// plane packets test them: cheaper for the five planes of a TP6 box).
 const FEW_PLANES: usize = 2;
@@ -80,7 +82,7 @@ pub struct Geometry {
     /// instructions of a ray in the bundled scenes went to that traversal.
     single_leaf: Option<(u32, u32)>,
     /// The spheres and quads, when the finite shapes are at most [`FEW_SPHERES`] spheres and
-    /// [`FEW_QUADS`] quads (the TP6 and validation scenes of spheres, planes and a quad light):
+    /// [`FEW_QUADS`] quads (the TP6 and validation scenes of spheres, planes, quad walls and a quad light):
     /// rays test them and the planes one after another, in the order given, without the packets
     /// and the BVH, whose bookkeeping cost more than the tests (17 % of the instructions of the
     /// ball-lens caustic benchmark; a third of the geometry's time in TP6 with its quad light).
@@ -694,13 +696,14 @@ mod tests {
 
     #[test]
     fn a_few_spheres_quads_and_planes_are_tested_directly_with_the_same_hits() {
-        // One plane (tested alone) or three (as a packet), two overlapping spheres and none, one
-        // or two quads, as in the TP6 scenes (the direct path); forcing the packets and the BVH
+        // No plane, one (tested alone) or three (as a packet), two overlapping spheres and none,
+        // one, two, five or eight quads, as in the TP6 scenes and the glass-and-mirror room (four
+        // walls and a light) (the direct path); forcing the packets and the BVH
         // instead must give the same hits, bit for bit, and so must a linear scan. Half the rays
         // are aimed at a quad, some of them from points on it, so that the quads' plane test
         // (`leaves_quad_plane`) is met on both sides.
         let mut rng = Rng::new(77);
-        for (planes, quads) in [(1, 0), (3, 0), (1, 1), (3, 2)] {
+        for (planes, quads) in [(1, 0), (3, 0), (1, 1), (3, 2), (0, 5), (1, 8)] {
             let mut shapes: Vec<Shape> = (0..planes)
                 .map(|_| {
                     Shape::Plane(Plane {

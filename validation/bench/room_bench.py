@@ -267,7 +267,9 @@ def write_up(args, prisma, bench_scene, results, references, scaling, scaling_sp
         lines += [
             "The validation case's room (`stokes_room_path`: a glass sphere of constant index 1.5 and a mirror sphere, "
             "a quad light and the grey sky through the open top) rendered with every wavelength instead of its case's "
-            "550 nm: prisma `--integrator path` (max_depth 64 bounces) against Mitsuba's `path` (max_depth 65 "
+            f"550 nm: prisma `--integrator path {' '.join(bench_scene.tuning)}` (max_depth 64 bounces; the light "
+            "tracer on for the quad light's caustics and the light they throw onward, its light paths per pass as "
+            "given: transport_scenes.py says why) against Mitsuba's `path` (max_depth 65 "
             "vertices, its default Russian roulette), both through prisma's colour pipeline (Mitsuba's specfilm with "
             "prisma's CIE table, then prisma's matrix). The glass does not disperse, so Mitsuba's one-index dielectric "
             "renders the same scene; the mirror is Mitsuba's perfect conductor (translate.py). At 75×50, a quarter of "
@@ -277,8 +279,9 @@ def write_up(args, prisma, bench_scene, results, references, scaling, scaling_sp
     else:
         lines += [
             "The validation case's closed room with a floating glass sphere and a D65 point light "
-            "(`transport_room_point`): prisma `--integrator path` with its light tracer (the scene's `caustics = "
-            "true`, its light paths per pass: one per pixel) against Mitsuba's particle tracer `ptracer` (max_depth "
+            f"(`transport_room_point`): prisma `--integrator path {' '.join(bench_scene.tuning)}` with its light "
+            "tracer (the scene's `caustics = true`; its light paths per pass as given, the scene's default being one "
+            "per pixel: transport_scenes.py says why) against Mitsuba's particle tracer `ptracer` (max_depth "
             "257 vertices, default Russian roulette, twosided diffuse walls), Mitsuba through its hdrfilm times its "
             "luminance normalisation fix, as the validation case. Compared only on the pixels whose camera ray first "
             "meets a diffuse surface, where ptracer holds every path of light: both halves of the reference positive "

@@ -52,10 +52,28 @@ class BenchScene:
     mitsuba: str
     # mode (bench.MODES' keys) -> the case name of its converged reference under REFERENCES.
     references: dict
+    # prisma's estimator settings for the race (its "best sampler", as Mitsuba's fastest sampler
+    # is taken): render options that change the noise and the cost, never the expectation (the
+    # same references). See the note above LIGHT_PATHS.
+    tuning: tuple = ()
 
     def prisma_args(self):
         """prisma render's arguments that make it render this benchmark's image."""
-        return ["--integrator", "path", "--width", str(self.width), "--height", str(self.height)]
+        return ["--integrator", "path", "--width", str(self.width), "--height", str(self.height), *self.tuning]
+
+
+# prisma's settings in the race, chosen on 2026-12-05 (validation/bench/PROFILE.md, "The rooms"):
+# relMSE × CPU time at 64–1024 spp, one thread, against the references below.
+# - room: the light tracer on (`--caustics`: it then counts the quad light's L S⁺ D X* D E paths,
+#   the light the mirror and the glass throw onto the walls and floor, which camera paths find only
+#   by chance; the camera paths leave them out: path.rs's table), 500 light paths per pass (0.13 per
+#   pixel at 75 × 50): relMSE × spp 0.30 → 0.085 at 512 spp for 1.14× the CPU per sample (3.1×
+#   less relMSE × CPU); 250 to 1000 light paths per pass are within 10 % of it, the scene default
+#   of one per pixel (3,750) costs 2.1× the CPU per sample for a fifth less error (1.7× worse).
+# - room_point: its scene's light tracer (caustics = true) with 500 light paths per pass instead
+#   of one per pixel: the same relMSE × spp (0.237 against 0.235 at 256 spp; the camera paths hold
+#   most of this room's error) for about half the CPU per sample.
+LIGHT_PATHS = "500"
 
 
 ROOM = BenchScene(
@@ -64,13 +82,15 @@ ROOM = BenchScene(
     scene=REPO / "validation" / "scenes" / "stokes_room_path.toml",
     width=75, height=50, mitsuba="path",
     references={"unpolarised": "stokes_room_path_spectral_75x50",
-                "polarised": "stokes_room_path_spectral_polarized_75x50"})
+                "polarised": "stokes_room_path_spectral_polarized_75x50"},
+    tuning=("--caustics", "--light-paths", LIGHT_PATHS))
 ROOM_POINT = BenchScene(
     key="room_point",
     title="the point-light room against ptracer, spectral",
     scene=REPO / "validation" / "scenes" / "transport_room_point.toml",
     width=75, height=50, mitsuba="ptracer",
-    references={"unpolarised": "transport_room_point_75x50"})
+    references={"unpolarised": "transport_room_point_75x50"},
+    tuning=("--light-paths", LIGHT_PATHS))
 SCENES = {s.key: s for s in (ROOM, ROOM_POINT)}
 # mode -> Mitsuba's variant (bench.MODES' llvm variants).
 VARIANTS = {"unpolarised": "llvm_ad_spectral", "polarised": "llvm_ad_spectral_polarized"}
