@@ -55,7 +55,10 @@ use glam::{DVec3, Vec3};
 use super::{CameraError, Pinhole};
 use crate::geometry::Ray;
 use crate::lens::trace::MAX_LANES;
-use crate::lens::{read_lens_file, CameraRay, LensSystem, SensorSampler, TraceOptions, LAMBDA_D_NM};
+use crate::lens::{
+    read_lens_file, CameraRay, LensSample, LensSystem, PupilSample, ReverseTrace, SensorSampler,
+    TraceOptions, LAMBDA_D_NM, MAX_REVERSE_SURFACES,
+};
 
 // A camera sample's wavelength lanes are traced together.
 const _: () = assert!(MAX_LANES >= crate::spectrum::N_LAMBDA);
@@ -91,12 +94,42 @@ pub struct LensCamera {
     sampler: Arc<SensorSampler>,
     /// The image's width on the sensor (mm): the height times the aspect ratio.
     sensor_width_mm: f64,
+    /// How the lanes of a camera sample find their scene paths.
+    lane_paths: LanePaths,
+}
+
+/// How the wavelength lanes of a lens camera's sample find their scene paths (see the module
+/// header, "One scene path per camera sample").
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LanePaths {
+    /// One scene path for all the lanes, along the hero lane's ray, weighted by spectral MIS
+    /// ([`LensCamera::sample_shared_path`]); the default, used when the lens has no ghosts
+    /// and at most [`MAX_REVERSE_SURFACES`] surfaces (otherwise as `PerLane`).
+    Shared,
+    /// Each lane its own ray through the lens and its own scene path
+    /// ([`LensCamera::sample_rays_for_lanes`]): the estimator before the shared path, kept
+    /// for ghosts and for the tests that compare the two.
+    PerLane,
+}
+
+/// One camera sample of [`LensCamera::sample_shared_path`]: the scene ray all the lanes share
+/// and, per lane, the weights of what comes back along it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HeroSample {
+    /// The scene ray (the hero lane's, out of the lens).
+    pub ray: Ray,
+    /// The lane's weights (`None`: it adds 0): [`CameraRay::weight`] multiplies the radiance
+    /// of unpolarised light, `sensor_weight` × `sample.mueller` the Stokes vector arriving
+    /// along the ray (frames as [`LensCamera::sample_ray`]'s).
+    pub lanes: [Option<CameraRay>; MAX_LANES],
 }
 
 impl PartialEq for LensCamera {
     fn eq(&self, other: &Self) -> bool {
         // The sampler is a function of the settings and the file.
-        self.pinhole == other.pinhole && self.settings == other.settings
+        self.pinhole == other.pinhole
+            && self.settings == other.settings
+            && self.lane_paths == other.lane_paths
     }
 }
 
@@ -167,7 +200,7 @@ impl LensCamera {
         let sensor_width_mm = settings.sensor_height_mm * pinhole.width() as f64 / pinhole.height() as f64;
         let half_diagonal = 0.5 * sensor_width_mm.hypot(settings.sensor_height_mm);
         let sampler = Arc::new(SensorSampler::new(system, half_diagonal, LAMBDA_D_NM));
-        Self { pinhole, settings, sampler, sensor_width_mm }
+        Self { pinhole, settings, sampler, sensor_width_mm, lane_paths: LanePaths::Shared }
     }
 
     /// The same camera with another resolution: the sensor height stays, the width follows the
@@ -179,7 +212,8 @@ impl LensCamera {
         {
             return Ok(Self { pinhole, ..self.clone() });
         }
-        Ok(Self::with_system(pinhole, self.settings.clone(), self.sampler.tracer.system.clone()))
+        let resized = Self::with_system(pinhole, self.settings.clone(), self.sampler.tracer.system.clone());
+        Ok(resized.with_lane_paths(self.lane_paths))
     }
 
     /// The same camera with its sensor moved `offset_mm` (mm) along the axis from where
@@ -199,7 +233,22 @@ impl LensCamera {
             )));
         }
         system.surfaces[last].thickness_mm = thickness;
-        Ok(Self::with_system(self.pinhole.clone(), self.settings.clone(), system))
+        Ok(Self::with_system(self.pinhole.clone(), self.settings.clone(), system)
+            .with_lane_paths(self.lane_paths))
+    }
+
+    /// The same camera with its lanes finding their scene paths as `lane_paths` says.
+    pub fn with_lane_paths(&self, lane_paths: LanePaths) -> Self {
+        Self { lane_paths, ..self.clone() }
+    }
+
+    /// Whether a render gives a camera sample's lanes one scene path
+    /// ([`Self::sample_shared_path`]): [`LanePaths::Shared`], no ghosts, and a lens of at most
+    /// [`MAX_REVERSE_SURFACES`] surfaces.
+    pub fn shares_scene_path(&self) -> bool {
+        self.lane_paths == LanePaths::Shared
+            && self.settings.max_ghost_reflections == 0
+            && self.sampler.tracer.system.surfaces.len() <= MAX_REVERSE_SURFACES
     }
 
     /// The frame, resolution and paraxial field, as a pinhole.
@@ -315,6 +364,86 @@ impl LensCamera {
             });
         }
         Some(out)
+    }
+
+    /// One camera sample whose `lambdas_nm.len()` lanes (1 to [`MAX_LANES`]) share one scene
+    /// path, at film position `film` (pixels) of pixel `pixel`, aimed by the uniform pair
+    /// `u_pupil`, its hero lane chosen by the uniform `u_hero` (see the module header, "One
+    /// scene path per camera sample"). `None` when the hero's ray does not pass the lens (the
+    /// sample adds 0 for every lane). `hero_pdf_only` is the fault
+    /// [`crate::integrator::Fault::LensHeroPdfOnly`]: the hero's density alone in each lane's
+    /// weight. Only for a camera that [`Self::shares_scene_path`].
+    #[allow(clippy::too_many_arguments)] // the sample's numbers, passed flat as sample_ray's
+    pub fn sample_shared_path(
+        &self,
+        pixel: (u32, u32),
+        film: (f32, f32),
+        u_pupil: (f32, f32),
+        u_hero: f32,
+        lambdas_nm: &[f32],
+        polarized: bool,
+        hero_pdf_only: bool,
+    ) -> Option<HeroSample> {
+        let count = lambdas_nm.len().min(MAX_LANES);
+        debug_assert!(count >= 1 && self.shares_scene_path());
+        let hero = ((u_hero * count as f32) as usize).min(count - 1);
+        let sampler = &*self.sampler;
+        let sensor = self.sensor_point_mm(film.0, film.1);
+        let u = [f64::from(u_pupil.0), f64::from(u_pupil.1)];
+        let pupil = sampler.bounds.sample(sensor, u)?;
+        let options =
+            TraceOptions { full_mueller: polarized, ..TraceOptions::new(f64::from(lambdas_nm[hero])) };
+        let exit = sampler.tracer.trace_from_sensor(sensor, pupil.target_mm, &options, &mut || 0.0)?;
+        let scene_ray = crate::lens::Ray { origin: exit.origin_mm, dir: exit.dir };
+        // Per lane: its sample of the lens (None: blocked, or its preimage outside the pixel)
+        // and the sum over the lanes of their densities (times K).
+        let mut samples: [Option<LensSample>; MAX_LANES] = [None; MAX_LANES];
+        samples[hero] = Some(exit);
+        let hero_density = sampler.normalisation.inverse_sensor_weight(sensor, &pupil);
+        let mut density_sum = hero_density;
+        let mut reverse = ReverseTrace::default();
+        for (lane, lambda_nm) in lambdas_nm[..count].iter().enumerate() {
+            if lane == hero
+                || sampler.tracer.trace_to_sensor(scene_ray, f64::from(*lambda_nm), &mut reverse).is_err()
+                || !self.in_pixel(pixel, reverse.sensor_mm)
+            {
+                continue;
+            }
+            let preimage = PupilSample {
+                target_mm: reverse.target_mm,
+                pdf_per_mm2: sampler.bounds.pdf_per_mm2(reverse.sensor_mm, reverse.target_mm),
+            };
+            density_sum += sampler.normalisation.inverse_sensor_weight(reverse.sensor_mm, &preimage);
+            samples[lane] = reverse.sample(&sampler.tracer, &options);
+        }
+        // The mixture's density is the mean over the lanes; the fault takes the hero's alone.
+        let sensor_weight = if hero_pdf_only { 1.0 / hero_density } else { count as f64 / density_sum };
+        let ray = self.world_ray(&exit)?;
+        let lanes = samples.map(|sample| {
+            let sample = sample?;
+            let weight = sensor_weight * sample.throughput;
+            (weight > 0.0 && (weight as f32).is_finite()).then_some(CameraRay {
+                sample,
+                sensor_weight,
+                weight,
+            })
+        });
+        Some(HeroSample { ray, lanes })
+    }
+
+    /// Whether the sensor point `sensor_mm` (mm, lens coordinates) is read by pixel `pixel`:
+    /// the inverse of [`Self::sensor_point_mm`], the pixel a box of one pixel's side.
+    fn in_pixel(&self, pixel: (u32, u32), sensor_mm: [f64; 2]) -> bool {
+        let x = (0.5 - sensor_mm[0] / self.sensor_width_mm) * f64::from(self.pinhole.width());
+        let y = (0.5 + sensor_mm[1] / self.settings.sensor_height_mm) * f64::from(self.pinhole.height());
+        x.floor() == f64::from(pixel.0) && y.floor() == f64::from(pixel.1)
+    }
+
+    /// The scene ray of a lens sample, `None` when not finite.
+    fn world_ray(&self, sample: &LensSample) -> Option<Ray> {
+        let origin = self.to_world(sample.origin_mm / MM_PER_METRE);
+        let dir = self.to_world(sample.dir).normalize();
+        (origin.is_finite() && dir.is_finite()).then(|| Ray::new(self.pinhole.position() + origin, dir))
     }
 
     /// The scene ray of a camera ray that passed the lens, `None` for one of weight 0 or not
