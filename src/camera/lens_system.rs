@@ -509,4 +509,59 @@ mod tests {
         }
         assert!(passed > 100 && blocked > 10, "{passed} passed, {blocked} blocked");
     }
+
+    #[test]
+    fn without_dispersion_the_shared_path_is_the_per_lane_estimate() {
+        // pbrt-v4's own double Gauss file gives each glass one index for every wavelength:
+        // every lane's preimage of the hero's scene ray is the hero's own (p, t), so the
+        // mixture's density is the hero's and every lane's weights must be those of its own
+        // per-lane ray (the same ray, to rounding), whichever lane is the hero. Tolerance
+        // 1e-12 relative: the reverse trace's rounding (tested in lens::reverse, ~1e-14) and
+        // the sum of eight equal densities divided by eight (~1e-16).
+        let settings = LensSettings {
+            lens: PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/data/lenses/dgauss50_pbrt.dat")),
+            sensor_height_mm: 24.0,
+            focus_distance_m: 6.0,
+            f_number: None,
+            max_ghost_reflections: 0,
+        };
+        let camera =
+            LensCamera::new(Vec3::new(0.0, 1.2, -5.0), Vec3::new(0.0, 0.8, 10.0), Vec3::Y, 36, 24, settings)
+                .expect("the shipped lens");
+        assert!(camera.shares_scene_path());
+        let lambdas = [365.0, 410.0, 460.0, 510.0, 560.0, 610.0, 680.0, 800.0];
+        let mut compared = 0;
+        for polarized in [false, true] {
+            for i in 0..300 {
+                let a = i as f32 * 0.618_034;
+                let pixel = ((36.0 * (a * 0.37).fract()) as u32, (24.0 * (a * 0.71).fract()) as u32);
+                let film = (pixel.0 as f32 + (a * 0.13).fract(), pixel.1 as f32 + (a * 0.41).fract());
+                let u = ((a * 0.53).fract(), (a * 0.29).fract());
+                let u_hero = (a * 0.87).fract();
+                let per_lane =
+                    camera.sample_rays_for_lanes(film.0, film.1, u, &lambdas, polarized).expect("no ghosts");
+                let shared = camera.sample_shared_path(pixel, film, u, u_hero, &lambdas, polarized, false);
+                let Some(shared) = shared else {
+                    assert!(per_lane.iter().all(Option::is_none), "sample {i}");
+                    continue;
+                };
+                for (lane, (alone, together)) in per_lane.iter().zip(&shared.lanes).enumerate() {
+                    let (Some((ray, alone)), Some(together)) = (alone, together) else {
+                        panic!("sample {i}, lane {lane}: {alone:?} against {together:?}");
+                    };
+                    assert!((ray.dir - shared.ray.dir).abs().max_element() < 1e-6, "sample {i}");
+                    let close = |x: f64, y: f64| (x - y).abs() <= 1e-12 * x.abs().max(y.abs()).max(1e-300);
+                    assert!(close(alone.weight, together.weight), "{} vs {}", alone.weight, together.weight);
+                    assert!(close(alone.sensor_weight, together.sensor_weight), "sample {i}, lane {lane}");
+                    for (x, y) in
+                        alone.sample.mueller.iter().flatten().zip(together.sample.mueller.iter().flatten())
+                    {
+                        assert!((x - y).abs() <= 1e-12 * alone.sample.throughput, "sample {i}, lane {lane}");
+                    }
+                    compared += 1;
+                }
+            }
+        }
+        assert!(compared > 2000, "{compared}");
+    }
 }
