@@ -1048,7 +1048,7 @@ fn add_lens_sample<B: PathBeam>(
             let components = light.components();
             for (lane, camera_ray) in hero.lanes[..active].iter().enumerate() {
                 if let Some(camera_ray) = camera_ray {
-                    record(lane, camera_ray, &components);
+                    record(lane, camera_ray, components);
                 }
             }
         }
@@ -1068,7 +1068,7 @@ fn add_lens_sample<B: PathBeam>(
             let frame_x = if B::POLARIZED { lens.pinhole().stokes_x(ray.dir) } else { ray.dir };
             let alone = wavelengths.lane_alone(lane);
             let light: B = integrator.radiance(&ray, frame_x, &alone, rng, stats);
-            record(lane, &camera_ray, &light.components());
+            record(lane, &camera_ray, light.components());
         }
     }
     if B::POLARIZED {

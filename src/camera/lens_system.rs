@@ -39,6 +39,41 @@
 //! every surface; vignetting and cos⁴ falloff elsewhere). A ray that misses the lens
 //! contributes 0.
 //!
+//! **One scene path per camera sample** (issue 40, "Speed"; without ghosts, [`LanePaths`]).
+//! Each wavelength leaves the lens on its own direction, so tracing every lane's own ray costs
+//! a scene path per lane. Instead the lanes share the hero lane's ray, an exact (unbiased)
+//! estimate by spectral multiple importance sampling through the lens's inverse map (hero
+//! wavelength sampling, Wilkie et al. 2014, with the lens map as the wavelength-dependent part):
+//! - *Measure.* Rays carry étendue dμ = cos θ dA dω, which refraction conserves exactly
+//!   (n² dμ is invariant; sensor and scene are both in air, n = 1), so the lens map T_λ from
+//!   sensor rays to scene rays preserves μ at every λ. A camera ray from sensor point p to
+//!   rear-vertex-plane point t ([`crate::lens::pupil`]: Δ the sensor's distance behind that
+//!   plane, θ the ray's angle to the axis) has dA_p dA_t = Δ²/cos⁴θ dμ.
+//! - *Pixel value for lane j* (box pixel of area A on the sensor, K the normalisation):
+//!   I_j = (1/(K A)) ∫ 1[p_j(r) ∈ pixel] τ_j(r) L_j(r) dμ(r) over scene rays r, (p_j, t_j)
+//!   the preimage T_λj⁻¹(r), τ_j the lens's transmission along it (the Mueller matrix when
+//!   polarised; 0 when blocked).
+//! - *Sampling.* The hero h is uniform among the N lanes (its own number, dimension 5 of the
+//!   pixel's sequence: the lanes' wavelengths do not depend on h, and a fixed hero would miss
+//!   light whose hero preimage falls outside the pixel or the pupil bounds), p uniform in the
+//!   pixel, t from the pupil sampler (pdf_t), traced forward at λ_h to r (hero blocked: the
+//!   sample adds 0). With lane k as hero, r has density per μ
+//!   q_k(r) = (1/A) 1[p_k ∈ pixel] pdf_t(t_k | p_k) Δ²/cos⁴θ_k.
+//! - *Estimate* for lane j: f_j(r)/((1/N) Σ_k q_k(r)) with f_j = 1[p_j ∈ pixel] τ_j L_j/(K A):
+//!   the one-sample balance heuristic over the N strategies, unbiased wherever some q_k > 0
+//!   covers f_j > 0 (q_j does, up to the pupil bounds' own approximation). A cancels; with
+//!   all preimages equal (a lens without dispersion) it is the per-lane weight
+//!   cos⁴θ/(Δ² pdf_t K) τ_j (tested).
+//! - *Preimages.* The other lanes' (p_k, t_k) come from tracing r backward through the lens
+//!   ([`crate::lens::reverse`]), one lens trace per lane, which gives τ_k (or the Mueller
+//!   matrix) of the same path; the hero's are its forward trace's. Then one integrator call
+//!   with all the lanes live, each lane's light times its weight.
+//!
+//! The images differ from the per-lane estimator's by noise only (tests/lens_hero.rs compares
+//! the two region by region through the N-BK7 singlet and the double Gauss, and the fault
+//! `LensHeroPdfOnly` fails there); with ghosts, or one lane, or a lens of more than
+//! [`MAX_REVERSE_SURFACES`] surfaces, each lane keeps its own ray and path.
+//!
 //! **Polarisation.** In a polarised render the Stokes vector arriving along the ray goes
 //! through the lens's Mueller matrix (every surface's exact s/p Fresnel transmission, the
 //! frames turned between surfaces) into the sensor's frame.
