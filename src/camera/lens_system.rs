@@ -436,12 +436,16 @@ impl LensCamera {
         samples[hero] = Some(exit);
         let hero_density = sampler.normalisation.inverse_sensor_weight(sensor, &pupil);
         let mut density_sum = hero_density;
-        let mut reverse = ReverseTrace::default();
-        for (lane, lambda_nm) in lambdas_nm[..count].iter().enumerate() {
-            if lane == hero
-                || sampler.tracer.trace_to_sensor(scene_ray, f64::from(*lambda_nm), &mut reverse).is_err()
-                || !self.in_pixel(pixel, reverse.sensor_mm)
-            {
+        // The other lanes' preimages, traced back together.
+        let others: [usize; MAX_LANES] = std::array::from_fn(|k| if k < hero { k } else { k + 1 });
+        let others = &others[..count - 1];
+        let lambdas: [f64; MAX_LANES] =
+            std::array::from_fn(|k| others.get(k).map_or(0.0, |&lane| f64::from(lambdas_nm[lane])));
+        let mut traces: [ReverseTrace; MAX_LANES] = std::array::from_fn(|_| ReverseTrace::default());
+        let mut blocked = [None; MAX_LANES];
+        sampler.tracer.trace_lanes_to_sensor(scene_ray, &lambdas[..count - 1], &mut traces, &mut blocked);
+        for ((&lane, reverse), blocked) in others.iter().zip(&traces).zip(blocked) {
+            if blocked.is_some() || !self.in_pixel(pixel, reverse.sensor_mm) {
                 continue;
             }
             let preimage = PupilSample {
