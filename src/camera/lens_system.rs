@@ -441,7 +441,7 @@ impl LensCamera {
         let others = &others[..count - 1];
         let lambdas: [f64; MAX_LANES] =
             std::array::from_fn(|k| others.get(k).map_or(0.0, |&lane| f64::from(lambdas_nm[lane])));
-        let mut traces: [ReverseTrace; MAX_LANES] = std::array::from_fn(|_| ReverseTrace::default());
+        let mut traces = [ReverseTrace::EMPTY; MAX_LANES];
         let mut blocked = [None; MAX_LANES];
         sampler.tracer.trace_lanes_to_sensor(scene_ray, &lambdas[..count - 1], &mut traces, &mut blocked);
         for ((&lane, reverse), blocked) in others.iter().zip(&traces).zip(blocked) {

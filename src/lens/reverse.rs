@@ -41,10 +41,8 @@ use super::trace::{
 pub const MAX_REVERSE_SURFACES: usize = 32;
 
 /// One surface met on the way back.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug)]
 struct Step {
-    /// The point (mm).
-    point: DVec3,
     /// The unit surface normal there, toward +z.
     normal: DVec3,
     /// The light's direction after the surface (toward the sensor).
@@ -55,6 +53,12 @@ struct Step {
     n_before: f64,
     /// The index behind it (image side).
     n_after: f64,
+}
+
+impl Step {
+    /// A step not yet taken.
+    const NONE: Self =
+        Self { normal: DVec3::Z, light_out: DVec3::Z, cos_camera: 1.0, n_before: 1.0, n_after: 1.0 };
 }
 
 /// A scene ray traced back to the sensor at one wavelength: the camera ray (p, t) that leaves
@@ -72,17 +76,21 @@ pub struct ReverseTrace {
     pub target_mm: [f64; 2],
 }
 
+impl ReverseTrace {
+    /// A trace not yet made (a constant, so that an array of them is written in place).
+    pub const EMPTY: Self = Self {
+        steps: [Step::NONE; MAX_REVERSE_SURFACES],
+        surfaces: 0,
+        lambda_nm: 0.0,
+        exit: Ray { origin: DVec3::ZERO, dir: DVec3::NEG_Z },
+        sensor_mm: [0.0; 2],
+        target_mm: [0.0; 2],
+    };
+}
+
 impl Default for ReverseTrace {
     fn default() -> Self {
-        let exit = Ray { origin: DVec3::ZERO, dir: DVec3::NEG_Z };
-        Self {
-            steps: [Step::default(); MAX_REVERSE_SURFACES],
-            surfaces: 0,
-            lambda_nm: 0.0,
-            exit,
-            sensor_mm: [0.0; 2],
-            target_mm: [0.0; 2],
-        }
+        Self::EMPTY
     }
 }
 
@@ -129,10 +137,10 @@ impl LensTracer {
                     continue;
                 }
                 match self.step_back(at, surface, &rays[lane], &mut indices[lane]) {
-                    Ok(step) => match into[lane].steps.get_mut(at) {
+                    Ok((hit_point, step)) => match into[lane].steps.get_mut(at) {
                         Some(slot) => {
                             *slot = step;
-                            rays[lane] = Ray { origin: step.point, dir: step.light_out };
+                            rays[lane] = Ray { origin: hit_point, dir: step.light_out };
                         }
                         None => blocked[lane] = Some(Blocked::Missed(at)),
                     },
@@ -173,7 +181,7 @@ impl LensTracer {
         surface: &super::Surface,
         ray: &Ray,
         indices: &mut MediumIndices,
-    ) -> Result<Step, Blocked> {
+    ) -> Result<(DVec3, Step), Blocked> {
         let hit = intersect(surface, self.vertex_z_mm[at], ray.origin, ray.dir, T_MIN_MM)
             .ok_or(Blocked::Missed(at))?;
         if !within_aperture(surface, hit.point) {
@@ -185,14 +193,16 @@ impl LensTracer {
         let cos_i = cos_signed.abs().min(1.0);
         let light_out = refract(ray.dir, facing, cos_i, n_before / n_after)
             .ok_or(Blocked::TotalInternalReflection(at))?;
-        Ok(Step {
-            point: hit.point,
-            normal: hit.normal,
-            light_out,
-            cos_camera: hit.normal.dot(light_out).abs().min(1.0),
-            n_before,
-            n_after,
-        })
+        Ok((
+            hit.point,
+            Step {
+                normal: hit.normal,
+                light_out,
+                cos_camera: hit.normal.dot(light_out).abs().min(1.0),
+                n_before,
+                n_after,
+            },
+        ))
     }
 }
 
@@ -221,7 +231,8 @@ impl ReverseTrace {
             };
             path.visit(&Interaction {
                 surface: at,
-                point: step.point,
+                // Not stored: the path's matrix does not depend on where the surface is met.
+                point: DVec3::NAN,
                 normal: step.normal,
                 dir_in: -step.light_out,
                 dir_out: -light_in,
@@ -301,7 +312,7 @@ mod tests {
                 // All lanes together give each lane's numbers alone, to the bit.
                 let lambdas: [f64; 8] =
                     std::array::from_fn(|k| 360.0 + 67.0 * k as f64 + (lambda_nm - 360.0) / 8.0);
-                let mut traces: [ReverseTrace; 8] = std::array::from_fn(|_| ReverseTrace::default());
+                let mut traces = [ReverseTrace::EMPTY; 8];
                 let mut blocked = [None; 8];
                 tracer.trace_lanes_to_sensor(exit, &lambdas, &mut traces, &mut blocked);
                 for lane in 0..8 {

@@ -2,12 +2,19 @@
 section of validation/bench/RESULTS.md (between the `lens_speed.py` markers).
 
 Three cameras on the scene of scenes/lens_dgauss50.toml (ghosts off, unpolarised):
-- `lens, all lanes`: scenes/lens_dgauss50.toml as shipped: every camera sample traces its 8
-  wavelength lanes through the double Gauss, each with its own integrator call;
+- `lens, all lanes`: scenes/lens_dgauss50.toml as shipped: every camera sample carries 8
+  wavelength lanes; since the shared scene path (src/camera/lens_system.rs) the hero lane's ray
+  is traced out through the double Gauss, the 7 others back through it from the scene ray, and
+  one integrator call serves all 8 (before it, each lane had its own ray and integrator call);
 - `lens, one lane`: the same with `[render] wavelengths = 1`: each camera sample one wavelength,
   stratified over the pixel's samples (the wavelength dimension), one lens trace and one
   integrator call; unbiased as any `wavelengths` count is (the film divides by the sampling pdf);
 - `pinhole`: scenes/lens_pinhole.toml (the same scene through a pinhole of the same field).
+
+Plus a heavier scene, where the scene's paths cost more than the lens
+(validation/scenes/stokes_room_path.toml, the glass-and-mirror room, max_depth 64, made
+unpolarised, at 150×100), seen through the double Gauss (sensor 24 mm, f/2.8, focused at 5 m) and
+through a pinhole of the same field (27°): equal spp only (16 spp, `--repeats` rounds alternating).
 
 1. Equal spp: render_seconds (from `--stats`: no loading, no lens set-up, no writing) at the
    scenes' resolution and spp, the three alternating, `--repeats` rounds, best of each.
@@ -43,6 +50,7 @@ END = "<!-- lens_speed.py: end -->"
 HEADLINE_MARK = "lens camera vs pinhole"
 LENS = ROOT / "scenes" / "lens_dgauss50.toml"
 PINHOLE = ROOT / "scenes" / "lens_pinhole.toml"
+ROOM = ROOT / "validation" / "scenes" / "stokes_room_path.toml"
 SERIES_SPP = {"lens, all lanes": [4, 16, 64], "lens, one lane": [4, 16, 64, 256, 1024],
               "pinhole": [1, 2, 4, 16, 64, 256]}
 TARGETS = [1e-2, 3e-3, 1e-3]
@@ -57,6 +65,21 @@ def one_lane_scene(directory):
     path = Path(directory) / "lens_dgauss50_one_lane.toml"
     path.write_text(text)
     return path
+
+
+def room_scenes(directory):
+    """validation/scenes/stokes_room_path.toml through the double Gauss and through a pinhole of
+    the same vertical field (27°), unpolarised: (lens scene, pinhole scene)."""
+    text = ROOM.read_text().replace("polarized = true", "polarized = false")
+    frame = "up = [0, 1, 0]\nfov_y_deg = 45\n"
+    assert frame in text, "the room's camera block changed"
+    lens = text.replace(frame, f'up = [0, 1, 0]\nlens = "{ROOT}/data/lenses/dgauss50.dat"\nsensor_height_mm = 24\n'
+                               'focus_distance = 5\nf_number = 2.8\n')
+    pinhole = text.replace(frame, "up = [0, 1, 0]\nfov_y_deg = 27\n")
+    paths = (Path(directory) / "room_lens.toml", Path(directory) / "room_pinhole.toml")
+    paths[0].write_text(lens)
+    paths[1].write_text(pinhole)
+    return paths
 
 
 def render(prisma, scene, out, spp, threads, seed, width=None):
@@ -99,6 +122,17 @@ def main():
         for name, binary, scene in rounds:
             equal_spp[name].append(render(binary, scene, work / "equal.exr", 16, args.threads, 7))
     best = {name: min(times) for name, times in equal_spp.items()}
+
+    # 1b. The heavier scene, equal spp.
+    room_lens, room_pinhole = room_scenes(work)
+    room_rounds = [("room, lens", args.prisma, room_lens), ("room, pinhole", args.prisma, room_pinhole)]
+    if args.baseline:
+        room_rounds.append((f"room, lens ({args.baseline_name})", args.baseline, room_lens))
+    room_spp = {name: [] for name, _, _ in room_rounds}
+    for _ in range(args.repeats):
+        for name, binary, scene in room_rounds:
+            room_spp[name].append(render(binary, scene, work / "room.exr", 16, args.threads, 7))
+    room_best = {name: min(times) for name, times in room_spp.items()}
 
     # 2. References.
     refs = Path(args.refs) if args.refs else work
@@ -147,6 +181,14 @@ def main():
     for name, times in equal_spp.items():
         lines.append(f"| {name} | {', '.join(f'{t:.2f}' for t in times)} | {best[name]:.2f} | "
                      f"**{best[name] / best['pinhole']:.1f}×** |")
+    lines += ["", "### A heavier scene: the glass-and-mirror room (150×100, 16 spp, seed 7)", "",
+              "`validation/scenes/stokes_room_path.toml` (max_depth 64) made unpolarised, through the double Gauss "
+              "(sensor 24 mm, f/2.8, focused at 5 m) and a pinhole of the same 27° field (`room_scenes` in the "
+              "script); render_seconds, rounds alternating:", "",
+              "| camera | render seconds, each round | best | / pinhole |", "|---|---|---|---|"]
+    for name, times in room_spp.items():
+        lines.append(f"| {name} | {', '.join(f'{t:.2f}' for t in times)} | {room_best[name]:.2f} | "
+                     f"**{room_best[name] / room_best['room, pinhole']:.1f}×** |")
     lines += ["", f"### Equal error ({args.width} px wide, seed 7; references seeds 1 and 2 at {args.ref_spp} spp "
                   f"(lens, all lanes) and {4 * args.ref_spp} spp (pinhole))", "",
               "| camera | spp | render seconds (best of 2) | relMSE |", "|---|---|---|---|"]
