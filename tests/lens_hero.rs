@@ -39,10 +39,11 @@ fn parse(text: &str) -> Scene {
 
 /// A 32 × 32 image through `lens` (its camera lines) of a grey background with a bright quad
 /// light over part of the field and a dim one across the middle: edges for the lanes'
-/// preimages to fall across, at the centre and off axis.
-fn scene(lens: &str) -> Scene {
+/// preimages to fall across, at the centre and off axis; `lens_lanes` as the camera's.
+fn scene(lens: &str, lens_lanes: &str) -> Scene {
     parse(&format!(
-        "background = 0.4\n\n[camera]\nposition = [0, 0, 0]\nlook_at = [0, 0, 10]\n{lens}\nwidth = 32\n\
+        "background = 0.4\n\n[camera]\nposition = [0, 0, 0]\nlook_at = [0, 0, 10]\n{lens}\n\
+         lens_lanes = \"{lens_lanes}\"\nwidth = 32\n\
          height = 32\n\n[render]\nintegrator = \"path\"\nmax_depth = 2\nspp = {SPP}\npolarized = false\n\n\
          [[lights]]\ntype = \"quad\"\ncorner = [-0.05, -0.3, 10]\nedge1 = [0.5, 0, 0]\nedge2 = [0, 0.25, 0]\n\
          radiance = 3\nemit = \"edge2_cross_edge1\"\n\n\
@@ -114,10 +115,13 @@ fn compare(a: &[(f64, f64)], b: &[(f64, f64)]) -> (f64, f64) {
 #[test]
 fn the_shared_path_is_unbiased_and_the_hero_pdf_alone_is_not() {
     for (name, lens) in [("singlet", SINGLET), ("double Gauss", DGAUSS)] {
-        let shared = scene(lens);
-        let per_lane = with_lane_paths(&shared, LanePaths::PerLane);
+        let per_lane = scene(lens, "per_lane");
+        let shared = scene(lens, "shared");
         let Camera::Lens(camera) = &shared.camera else { panic!("not a lens camera") };
-        assert!(camera.shares_scene_path(), "{name}: the default camera shares the scene path");
+        assert!(camera.shares_scene_path(), "{name}: lens_lanes = \"shared\" shares the scene path");
+        let Camera::Lens(camera) = &per_lane.camera else { panic!("not a lens camera") };
+        assert_eq!(with_lane_paths(&per_lane, LanePaths::PerLane).camera, per_lane.camera, "the default");
+        assert!(!camera.shares_scene_path());
         let reference = region_means(&per_lane, 1, None);
         let (worst, relative) = compare(&region_means(&shared, 1001, None), &reference);
         eprintln!("{name}: shared path against per-lane paths: max |z| {worst:.2}, mean {relative:+.4}");
@@ -136,7 +140,7 @@ fn the_shared_path_is_unbiased_and_the_hero_pdf_alone_is_not() {
 #[test]
 fn the_shared_path_is_the_same_bits_on_any_thread_count() {
     for polarized in [false, true] {
-        let mut scene = scene(SINGLET);
+        let mut scene = scene(SINGLET, "shared");
         scene.settings.polarized = polarized;
         let films: Vec<Vec<[u32; 3]>> = [1, 2]
             .into_iter()
@@ -148,5 +152,24 @@ fn the_shared_path_is_the_same_bits_on_any_thread_count() {
             .collect();
         assert_eq!(films[0], films[1], "polarized {polarized}");
         assert!(films[0].iter().any(|p| f32::from_bits(p[1]) > 0.0));
+    }
+}
+
+/// `lens_lanes` takes "per_lane" or "shared", the latter without ghosts, and needs a lens:
+/// anything else is one error naming the field.
+#[test]
+fn lens_lanes_refuses_what_it_cannot_do() {
+    let here = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/lens_hero.toml");
+    let text = |camera: &str| {
+        format!("background = 0.4\n\n[camera]\nposition = [0, 0, 0]\nlook_at = [0, 0, 10]\n{camera}\nwidth = 8\nheight = 8\n")
+    };
+    for (camera, needle) in [
+        (format!("{SINGLET}\nlens_lanes = \"both\""), "must be \"per_lane\" or \"shared\""),
+        (format!("{SINGLET}\nlens_ghosts = 2\nlens_lanes = \"shared\""), "needs lens_ghosts = 0"),
+        ("fov_y_deg = 30\nlens_lanes = \"shared\"".to_string(), "needs a lens system"),
+    ] {
+        let error = prisma::scene::parse(&text(&camera), &here).err().expect("refused").to_string();
+        assert!(error.contains("camera.lens_lanes") && error.contains(needle), "{error}");
+        assert_eq!(error.lines().count(), 1, "{error}");
     }
 }

@@ -11,6 +11,7 @@
 //! focus_distance = 4          # metres from the first vertex; absent: infinity
 //! f_number = 2.8              # optional: stop down (never wider than the stop's semi-diameter)
 //! lens_ghosts = 0             # optional: the most ghost reflections a camera ray may take
+//! lens_lanes = "per_lane"     # optional: or "shared" (one scene path per camera sample)
 //! width = 320
 //! height = 240
 //! ```
@@ -137,14 +138,13 @@ pub struct LensCamera {
 /// header, "One scene path per camera sample").
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum LanePaths {
-    /// One scene path for all the lanes, along the hero lane's ray, weighted by spectral MIS
-    /// ([`LensCamera::sample_shared_path`]); the default, used when the lens has no ghosts
-    /// and at most [`MAX_REVERSE_SURFACES`] surfaces (otherwise as `PerLane`).
-    Shared,
     /// Each lane its own ray through the lens and its own scene path
-    /// ([`LensCamera::sample_rays_for_lanes`]): the estimator before the shared path, kept
-    /// for ghosts and for the tests that compare the two.
+    /// ([`LensCamera::sample_rays_for_lanes`]): the default (`lens_lanes = "per_lane"`).
     PerLane,
+    /// One scene path for all the lanes, along the hero lane's ray, weighted by spectral MIS
+    /// ([`LensCamera::sample_shared_path`]; `lens_lanes = "shared"`), used when the lens has no
+    /// ghosts and at most [`MAX_REVERSE_SURFACES`] surfaces (otherwise as `PerLane`).
+    Shared,
 }
 
 /// One camera sample of [`LensCamera::sample_shared_path`]: the scene ray all the lanes share
@@ -235,7 +235,7 @@ impl LensCamera {
         let sensor_width_mm = settings.sensor_height_mm * pinhole.width() as f64 / pinhole.height() as f64;
         let half_diagonal = 0.5 * sensor_width_mm.hypot(settings.sensor_height_mm);
         let sampler = Arc::new(SensorSampler::new(system, half_diagonal, LAMBDA_D_NM));
-        Self { pinhole, settings, sampler, sensor_width_mm, lane_paths: LanePaths::Shared }
+        Self { pinhole, settings, sampler, sensor_width_mm, lane_paths: LanePaths::PerLane }
     }
 
     /// The same camera with another resolution: the sensor height stays, the width follows the
@@ -567,6 +567,7 @@ mod tests {
         let camera =
             LensCamera::new(Vec3::new(0.0, 1.2, -5.0), Vec3::new(0.0, 0.8, 10.0), Vec3::Y, 36, 24, settings)
                 .expect("the shipped lens");
+        let camera = camera.with_lane_paths(LanePaths::Shared);
         assert!(camera.shares_scene_path());
         let lambdas = [365.0, 410.0, 460.0, 510.0, 560.0, 610.0, 680.0, 800.0];
         let mut compared = 0;
