@@ -2,10 +2,12 @@
 section of validation/bench/RESULTS.md (between the `lens_speed.py` markers).
 
 Three cameras on the scene of scenes/lens_dgauss50.toml (ghosts off, unpolarised):
-- `lens, all lanes`: scenes/lens_dgauss50.toml as shipped: every camera sample carries 8
-  wavelength lanes; since the shared scene path (src/camera/lens_system.rs) the hero lane's ray
-  is traced out through the double Gauss, the 7 others back through it from the scene ray, and
-  one integrator call serves all 8 (before it, each lane had its own ray and integrator call);
+- `lens, all lanes`: scenes/lens_dgauss50.toml as shipped (`lens_lanes = "per_lane"`, the
+  default): every camera sample traces its 8 wavelength lanes through the double Gauss, each
+  with its own integrator call;
+- `lens, shared path`: the same with `lens_lanes = "shared"` (src/camera/lens_system.rs): the
+  hero lane's ray traced out through the lens, the 7 others back through it from the scene ray
+  (spectral MIS), one integrator call for all 8;
 - `lens, one lane`: the same with `[render] wavelengths = 1`: each camera sample one wavelength,
   stratified over the pixel's samples (the wavelength dimension), one lens trace and one
   integrator call; unbiased as any `wavelengths` count is (the film divides by the sampling pdf);
@@ -51,9 +53,20 @@ HEADLINE_MARK = "lens camera vs pinhole"
 LENS = ROOT / "scenes" / "lens_dgauss50.toml"
 PINHOLE = ROOT / "scenes" / "lens_pinhole.toml"
 ROOM = ROOT / "validation" / "scenes" / "stokes_room_path.toml"
-SERIES_SPP = {"lens, all lanes": [4, 16, 64], "lens, one lane": [4, 16, 64, 256, 1024],
+SERIES_SPP = {"lens, all lanes": [4, 16, 64], "lens, shared path": [4, 16, 64, 256],
+              "lens, one lane": [4, 16, 64, 256, 1024],
               "pinhole": [1, 2, 4, 16, 64, 256]}
 TARGETS = [1e-2, 3e-3, 1e-3]
+
+
+def shared_scene(directory):
+    """scenes/lens_dgauss50.toml with `lens_lanes = "shared"` in [camera] and the lens file's path
+    made absolute."""
+    text = LENS.read_text().replace('lens = "../data/', f'lens = "{ROOT}/data/')
+    text = re.sub(r"(\[camera\]\n)", r'\1lens_lanes = "shared"\n', text, count=1)
+    path = Path(directory) / "lens_dgauss50_shared.toml"
+    path.write_text(text)
+    return path
 
 
 def one_lane_scene(directory):
@@ -68,17 +81,19 @@ def one_lane_scene(directory):
 
 
 def room_scenes(directory):
-    """validation/scenes/stokes_room_path.toml through the double Gauss and through a pinhole of
-    the same vertical field (27°), unpolarised: (lens scene, pinhole scene)."""
+    """validation/scenes/stokes_room_path.toml through the double Gauss (per-lane and shared
+    paths) and through a pinhole of the same vertical field (27°), unpolarised: (lens scene,
+    shared-path lens scene, pinhole scene)."""
     text = ROOM.read_text().replace("polarized = true", "polarized = false")
     frame = "up = [0, 1, 0]\nfov_y_deg = 45\n"
     assert frame in text, "the room's camera block changed"
     lens = text.replace(frame, f'up = [0, 1, 0]\nlens = "{ROOT}/data/lenses/dgauss50.dat"\nsensor_height_mm = 24\n'
                                'focus_distance = 5\nf_number = 2.8\n')
+    shared = lens.replace("f_number = 2.8\n", 'f_number = 2.8\nlens_lanes = "shared"\n')
     pinhole = text.replace(frame, "up = [0, 1, 0]\nfov_y_deg = 27\n")
-    paths = (Path(directory) / "room_lens.toml", Path(directory) / "room_pinhole.toml")
-    paths[0].write_text(lens)
-    paths[1].write_text(pinhole)
+    paths = tuple(Path(directory) / f"room_{name}.toml" for name in ("lens", "shared", "pinhole"))
+    for path, scene in zip(paths, (lens, shared, pinhole)):
+        path.write_text(scene)
     return paths
 
 
@@ -111,7 +126,8 @@ def main():
     load_before = os.getloadavg()[0]
     work = Path(tempfile.mkdtemp(prefix="lens_speed_"))
     one = one_lane_scene(work)
-    cameras = {"lens, all lanes": LENS, "lens, one lane": one, "pinhole": PINHOLE}
+    cameras = {"lens, all lanes": LENS, "lens, shared path": shared_scene(work), "lens, one lane": one,
+               "pinhole": PINHOLE}
 
     # 1. Equal spp at the scenes' own resolution and spp (16), alternating.
     rounds = [(name, args.prisma, scene) for name, scene in cameras.items()]
@@ -124,8 +140,9 @@ def main():
     best = {name: min(times) for name, times in equal_spp.items()}
 
     # 1b. The heavier scene, equal spp.
-    room_lens, room_pinhole = room_scenes(work)
-    room_rounds = [("room, lens", args.prisma, room_lens), ("room, pinhole", args.prisma, room_pinhole)]
+    room_lens, room_shared, room_pinhole = room_scenes(work)
+    room_rounds = [("room, lens", args.prisma, room_lens), ("room, lens, shared path", args.prisma, room_shared),
+                   ("room, pinhole", args.prisma, room_pinhole)]
     if args.baseline:
         room_rounds.append((f"room, lens ({args.baseline_name})", args.baseline, room_lens))
     room_spp = {name: [] for name, _, _ in room_rounds}
@@ -173,7 +190,8 @@ def main():
              f" --threads {args.threads} --repeats {args.repeats} --width {args.width} --ref-spp {args.ref_spp}"
              f"{' --baseline BIN --baseline-name ' + repr(args.baseline_name) if args.baseline else ''}`"
              f" (written to this file). Scenes: `scenes/lens_dgauss50.toml` (double Gauss 50 mm at f/2.8, ghosts "
-             f"off, unpolarised, 8 wavelength lanes), the same with `[render] wavelengths = 1` (one lane), "
+             f"off, unpolarised, 8 wavelength lanes), the same with `lens_lanes = \"shared\"` (shared path), "
+             f"the same with `[render] wavelengths = 1` (one lane), "
              f"`scenes/lens_pinhole.toml`; all `path`, max_depth 8, `--threads {args.threads}`.", "",
              "### Equal spp (360×240, 16 spp, seed 7)", "",
              "render_seconds (no loading, no lens set-up, no writing), rounds alternating the three cameras:", "",
@@ -210,7 +228,8 @@ def main():
     for target in TARGETS:
         pin = times_at[("pinhole", target)]
         lines.append(f"- relMSE {target:.0e}: lens all lanes **{times_at[('lens, all lanes', target)] / pin:.1f}×** "
-                     f"the pinhole's time, one lane **{times_at[('lens, one lane', target)] / pin:.1f}×**.")
+                     f"the pinhole's time, shared path **{times_at[('lens, shared path', target)] / pin:.1f}×**, "
+                     f"one lane **{times_at[('lens, one lane', target)] / pin:.1f}×**.")
     lines += ["", END]
     section = "\n".join(lines)
     text = RESULTS.read_text()
