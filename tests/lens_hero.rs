@@ -168,7 +168,7 @@ fn lens_lanes_refuses_what_it_cannot_do() {
         (format!("{SINGLET}\nlens_ghosts = 2\nlens_lanes = \"shared\""), "needs lens_ghosts = 0"),
         ("fov_y_deg = 30\nlens_lanes = \"shared\"".to_string(), "needs a lens system"),
     ] {
-        let error = prisma::scene::parse(&text(&camera), &here).err().expect("refused").to_string();
+        let error = prisma::scene::parse(&text(&camera), &here).expect_err("refused").to_string();
         assert!(error.contains("camera.lens_lanes") && error.contains(needle), "{error}");
         assert_eq!(error.lines().count(), 1, "{error}");
     }

@@ -40,11 +40,12 @@
 //! every surface; vignetting and cos⁴ falloff elsewhere). A ray that misses the lens
 //! contributes 0.
 //!
-//! **One scene path per camera sample** (issue 40, "Speed"; without ghosts, [`LanePaths`]).
-//! Each wavelength leaves the lens on its own direction, so tracing every lane's own ray costs
-//! a scene path per lane. Instead the lanes share the hero lane's ray, an exact (unbiased)
-//! estimate by spectral multiple importance sampling through the lens's inverse map (hero
-//! wavelength sampling, Wilkie et al. 2014, with the lens map as the wavelength-dependent part):
+//! **One scene path per camera sample** (`lens_lanes = "shared"`, [`LanePaths`]; issue 40,
+//! "Speed"; without ghosts). Each wavelength leaves the lens on its own direction, so by
+//! default every lane traces its own ray and its own scene path. With `"shared"` the lanes
+//! share the hero lane's ray instead, an exact (unbiased) estimate by spectral multiple
+//! importance sampling through the lens's inverse map (hero wavelength sampling, Wilkie et al.
+//! 2014, with the lens map as the wavelength-dependent part):
 //! - *Measure.* Rays carry étendue dμ = cos θ dA dω, which refraction conserves exactly
 //!   (n² dμ is invariant; sensor and scene are both in air, n = 1), so the lens map T_λ from
 //!   sensor rays to scene rays preserves μ at every λ. A camera ray from sensor point p to
@@ -72,8 +73,19 @@
 //!
 //! The images differ from the per-lane estimator's by noise only (tests/lens_hero.rs compares
 //! the two region by region through the N-BK7 singlet and the double Gauss, and the fault
-//! `LensHeroPdfOnly` fails there); with ghosts, or one lane, or a lens of more than
+//! `LensHeroPdfOnly` fails there); with one lane, or a lens of more than
 //! [`MAX_REVERSE_SURFACES`] surfaces, each lane keeps its own ray and path.
+//!
+//! *Why it is not the default* (validation/bench/RESULTS.md, "Lens-system camera against the
+//! pinhole"): it saves the scene paths, not the lens: a camera sample still traces the lens
+//! once per lane (the hero out, the others back, each with its Mueller matrix), and the lens
+//! is most of the cost of a lens render. What it saves is paid for in noise: the lanes'
+//! preimages of one scene ray fall up to a few pixels apart (the double Gauss's colour: at
+//! 360×240, 60 % of its camera samples have a lane whose preimage leaves the pixel), each such
+//! lane adds 0 and the others carry N/Σ-weighted light, and one scene path instead of eight
+//! leaves the scene's own noise undivided. On `scenes/lens_dgauss50.toml` it is 1.3–1.5×
+//! faster per sample and 2.2× slower to equal error; on a scene whose paths cost more than the
+//! lens (the glass-and-mirror room, max_depth 64) it is ~1.15× faster to equal error.
 //!
 //! **Polarisation.** In a polarised render the Stokes vector arriving along the ray goes
 //! through the lens's Mueller matrix (every surface's exact s/p Fresnel transmission, the
