@@ -1,11 +1,12 @@
-//! The lens camera's shared scene path (one path per camera sample for all the wavelength
-//! lanes, hero-wavelength spectral MIS through the lens's inverse map,
-//! `prisma::camera::LensCamera::sample_shared_path`) against the estimator it replaces (each
-//! lane its own ray and scene path, `LanePaths::PerLane`): the same expected image, through the
+//! The lens camera's shared scene path (`lens_lanes = "shared"`: one path per camera sample for
+//! all the wavelength lanes, hero-wavelength spectral MIS through the lens's inverse map,
+//! `prisma::camera::LensCamera::sample_shared_path`) against the default per-lane estimator
+//! (each lane its own ray and scene path, `LanePaths::PerLane`): the same expected image, through the
 //! N-BK7 singlet (strong longitudinal colour: its F and C foci 1.5 mm apart, so the lanes'
 //! preimages of one scene ray fall up to ~0.2 mm apart on the sensor, two pixels here) and the
 //! double Gauss; the fault `LensHeroPdfOnly` (each lane weighted by the hero's density alone)
-//! fails the same comparison; and the same bits on one thread and two.
+//! fails the same comparison; the same bits on one thread and two; and `lens_lanes` refuses
+//! what it cannot do.
 
 use std::path::Path;
 

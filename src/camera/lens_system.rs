@@ -93,8 +93,9 @@
 //! frames turned between surfaces) into the sensor's frame.
 //!
 //! **Refused with it** (one-line errors): `fov_y_deg` (the lens and sensor set the field),
-//! `aperture_radius` (a thin lens), and caustics (light paths cannot be connected to the
-//! camera through glass).
+//! `aperture_radius` (a thin lens), caustics (light paths cannot be connected to the camera
+//! through glass), and `lens_lanes = "shared"` with ghosts (a ghost path's branch choices are
+//! its own lane's).
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
