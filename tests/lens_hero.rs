@@ -26,8 +26,8 @@ const SPP: u32 = 4;
 const REGION: usize = 4;
 /// The largest |z| of a region's difference that passes. Each z is a difference of two means
 /// of 16 independent renders over their standard errors: Student-like with ~30 degrees of
-/// freedom, for which |z| > 4.5 has probability ~1e-4; over the 2 × 64 regions of the test
-/// that is ~1 % (the seeds are fixed, so the outcome is too). The fault's regions sit at
+/// freedom, for which |z| > 4.5 has probability ~1e-4; over the 3 × 64 regions of the test
+/// that is ~2 % (the seeds are fixed, so the outcome is too). The fault's regions sit at
 /// |z| of tens.
 const Z_MAX: f64 = 4.5;
 
@@ -110,14 +110,20 @@ fn compare(a: &[(f64, f64)], b: &[(f64, f64)]) -> (f64, f64) {
     (worst, total(a) / total(b) - 1.0)
 }
 
-/// The shared path and the per-lane paths agree region by region through both lenses (the
-/// renders of each use their own seeds, so the two are independent), and the fault
-/// `LensHeroPdfOnly` does not.
+/// The shared path and the per-lane paths agree region by region through both lenses, the
+/// renders of each with their own seeds, so the two are independent; the fault
+/// `LensHeroPdfOnly` does not. The polarised singlet runs the polarised branch (each lane's
+/// Mueller matrix on the Stokes vector): nothing in the scene polarises the light it sends, so
+/// it reads what the unpolarised render reads (the same numbers, as the output shows).
 #[test]
 fn the_shared_path_is_unbiased_and_the_hero_pdf_alone_is_not() {
-    for (name, lens) in [("singlet", SINGLET), ("double Gauss", DGAUSS)] {
-        let per_lane = scene(lens, "per_lane");
-        let shared = scene(lens, "shared");
+    for (name, lens, polarized) in
+        [("singlet", SINGLET, false), ("double Gauss", DGAUSS, false), ("singlet, polarised", SINGLET, true)]
+    {
+        let mut per_lane = scene(lens, "per_lane");
+        let mut shared = scene(lens, "shared");
+        per_lane.settings.polarized = polarized;
+        shared.settings.polarized = polarized;
         let Camera::Lens(camera) = &shared.camera else { panic!("not a lens camera") };
         assert!(camera.shares_scene_path(), "{name}: lens_lanes = \"shared\" shares the scene path");
         let Camera::Lens(camera) = &per_lane.camera else { panic!("not a lens camera") };
