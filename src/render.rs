@@ -953,6 +953,7 @@ fn render_row<B: PathBeam>(
                 return add_lens_sample::<B>(
                     lens,
                     integrator,
+                    (x, y),
                     film,
                     wavelengths,
                     &mut rng,
@@ -960,6 +961,7 @@ fn render_row<B: PathBeam>(
                     sums,
                     layout,
                     weight,
+                    job.fault,
                 );
             }
             // A lens takes the next two dimensions (3 and 4); the pinhole none.
@@ -986,17 +988,23 @@ fn render_row<B: PathBeam>(
 }
 
 /// Adds to `sums` (weighted by `weight`, as [`add_weighted_sample`]) what a lens-system camera
-/// records for one camera sample at film position `film` (pixels): the lens bends every
-/// wavelength its own way, so each live lane gets its own ray, traced through the lens at its
-/// wavelength with the same film position and pupil numbers (dimensions 3 and 4, as a thin
-/// lens's), and its own integrator call with that lane alone live
-/// ([`SampledWavelengths::lane_alone`]). The light it brings back is weighted by the ray's
-/// [`crate::lens::CameraRay::weight`] (unpolarised), or goes through the lens's Mueller matrix
-/// times the sensor weight (polarised). A lane whose ray does not pass the lens adds 0.
+/// records for one camera sample at film position `film` (pixels) of pixel `pixel`, with the
+/// pupil numbers (dimensions 3 and 4, as a thin lens's). The lens bends every wavelength its
+/// own way. Without ghosts (and with more than one lane) the lanes share one scene path: a
+/// hero lane drawn by the next number (dimension 5) sends its ray out, the lens camera weighs
+/// every lane by spectral MIS through the lens's inverse map
+/// ([`crate::camera::LensCamera::sample_shared_path`]), and one integrator call with all the
+/// lanes live brings the light back. Otherwise each live lane gets its own ray, traced through
+/// the lens at its wavelength with the same film position and pupil numbers, and its own
+/// integrator call with that lane alone live ([`SampledWavelengths::lane_alone`]). The light
+/// is weighted by the lane's [`crate::lens::CameraRay::weight`] (unpolarised), or goes through
+/// the lens's Mueller matrix times the sensor weight (polarised). A lane whose ray does not
+/// pass the lens (or, shared, whose preimage is outside the pixel) adds 0.
 #[allow(clippy::too_many_arguments)] // the sample's place and the render's state, passed flat
 fn add_lens_sample<B: PathBeam>(
     lens: &crate::camera::LensCamera,
     integrator: &CameraIntegrator,
+    pixel: (u32, u32),
     film: (f32, f32),
     wavelengths: &SampledWavelengths,
     rng: &mut PixelRng,
@@ -1004,27 +1012,14 @@ fn add_lens_sample<B: PathBeam>(
     sums: &mut [FixedSum],
     layout: &FilmLayout,
     weight: f32,
+    fault: Option<Fault>,
 ) -> bool {
     let u_pupil = (rng.uniform(), rng.uniform());
     let mut stokes = [SampledSpectrum::zero(); 4];
-    // Without ghosts every lane's ray is traced at once (the same rays as one by one, faster);
-    // with them each lane's branch choices draw from `rng` in turn.
+    let active = wavelengths.active();
     let lambdas: [f32; N_LAMBDA] = std::array::from_fn(|lane| wavelengths.lambda_nm(lane));
-    let all_lanes =
-        lens.sample_rays_for_lanes(film.0, film.1, u_pupil, &lambdas[..wavelengths.active()], B::POLARIZED);
-    for lane in 0..wavelengths.active() {
-        let lambda_nm = wavelengths.lambda_nm(lane);
-        let traced = match &all_lanes {
-            Some(rays) => rays[lane],
-            None => lens.sample_ray_for(film.0, film.1, u_pupil, lambda_nm, B::POLARIZED, &mut || {
-                f64::from(rng.uniform())
-            }),
-        };
-        let Some((ray, camera_ray)) = traced else { continue };
-        let frame_x = if B::POLARIZED { lens.pinhole().stokes_x(ray.dir) } else { ray.dir };
-        let alone = wavelengths.lane_alone(lane);
-        let light: B = integrator.radiance(&ray, frame_x, &alone, rng, stats);
-        let components = light.components();
+    // Lane `lane`'s light `components` (of the ray's Stokes frame) through its camera ray.
+    let mut record = |lane: usize, camera_ray: &crate::lens::CameraRay, components: &[SampledSpectrum]| {
         if B::POLARIZED {
             let arriving: [f64; 4] = std::array::from_fn(|k| f64::from(components[k][lane]));
             for (row, out) in stokes.iter_mut().enumerate() {
@@ -1033,6 +1028,47 @@ fn add_lens_sample<B: PathBeam>(
             }
         } else {
             stokes[0][lane] = (camera_ray.weight * f64::from(components[0][lane])) as f32;
+        }
+    };
+    if active > 1 && lens.shares_scene_path() {
+        let u_hero = rng.uniform();
+        let hero_pdf_only = fault == Some(Fault::LensHeroPdfOnly);
+        let shared = lens.sample_shared_path(
+            pixel,
+            film,
+            u_pupil,
+            u_hero,
+            &lambdas[..active],
+            B::POLARIZED,
+            hero_pdf_only,
+        );
+        if let Some(hero) = shared.filter(|hero| hero.lanes.iter().any(Option::is_some)) {
+            let frame_x = if B::POLARIZED { lens.pinhole().stokes_x(hero.ray.dir) } else { hero.ray.dir };
+            let light: B = integrator.radiance(&hero.ray, frame_x, wavelengths, rng, stats);
+            let components = light.components();
+            for (lane, camera_ray) in hero.lanes[..active].iter().enumerate() {
+                if let Some(camera_ray) = camera_ray {
+                    record(lane, camera_ray, components);
+                }
+            }
+        }
+    } else {
+        // Without ghosts every lane's ray is traced at once (the same rays as one by one,
+        // faster); with them each lane's branch choices draw from `rng` in turn.
+        let all_lanes = lens.sample_rays_for_lanes(film.0, film.1, u_pupil, &lambdas[..active], B::POLARIZED);
+        for lane in 0..active {
+            let lambda_nm = wavelengths.lambda_nm(lane);
+            let traced = match &all_lanes {
+                Some(rays) => rays[lane],
+                None => lens.sample_ray_for(film.0, film.1, u_pupil, lambda_nm, B::POLARIZED, &mut || {
+                    f64::from(rng.uniform())
+                }),
+            };
+            let Some((ray, camera_ray)) = traced else { continue };
+            let frame_x = if B::POLARIZED { lens.pinhole().stokes_x(ray.dir) } else { ray.dir };
+            let alone = wavelengths.lane_alone(lane);
+            let light: B = integrator.radiance(&ray, frame_x, &alone, rng, stats);
+            record(lane, &camera_ray, light.components());
         }
     }
     if B::POLARIZED {

@@ -11,6 +11,7 @@
 //! focus_distance = 4          # metres from the first vertex; absent: infinity
 //! f_number = 2.8              # optional: stop down (never wider than the stop's semi-diameter)
 //! lens_ghosts = 0             # optional: the most ghost reflections a camera ray may take
+//! lens_lanes = "per_lane"     # optional: or "shared" (one scene path per camera sample)
 //! width = 320
 //! height = 240
 //! ```
@@ -39,13 +40,62 @@
 //! every surface; vignetting and cos⁴ falloff elsewhere). A ray that misses the lens
 //! contributes 0.
 //!
+//! **One scene path per camera sample** (`lens_lanes = "shared"`, [`LanePaths`]; issue 40,
+//! "Speed"; without ghosts). Each wavelength leaves the lens on its own direction, so by
+//! default every lane traces its own ray and its own scene path. With `"shared"` the lanes
+//! share the hero lane's ray instead, an exact (unbiased) estimate by spectral multiple
+//! importance sampling through the lens's inverse map (hero wavelength sampling, Wilkie et al.
+//! 2014, with the lens map as the wavelength-dependent part):
+//! - *Measure.* Rays carry étendue dμ = cos θ dA dω, which refraction conserves exactly
+//!   (n² dμ is invariant; sensor and scene are both in air, n = 1), so the lens map T_λ from
+//!   sensor rays to scene rays preserves μ at every λ. A camera ray from sensor point p to
+//!   rear-vertex-plane point t ([`crate::lens::pupil`]: Δ the sensor's distance behind that
+//!   plane, θ the ray's angle to the axis) has dA_p dA_t = Δ²/cos⁴θ dμ.
+//! - *Pixel value for lane j* (box pixel of area A on the sensor, K the normalisation):
+//!   I_j = (1/(K A)) ∫ 1[p_j(r) ∈ pixel] τ_j(r) L_j(r) dμ(r) over scene rays r, (p_j, t_j)
+//!   the preimage T_λj⁻¹(r), τ_j the lens's transmission along it (the Mueller matrix when
+//!   polarised; 0 when blocked).
+//! - *Sampling.* The hero h is uniform among the N lanes (its own number, dimension 5 of the
+//!   pixel's sequence: the lanes' wavelengths do not depend on h, and a fixed hero would miss
+//!   light whose hero preimage falls outside the pixel or the pupil bounds), p uniform in the
+//!   pixel, t from the pupil sampler (pdf_t), traced forward at λ_h to r (hero blocked: the
+//!   sample adds 0). With lane k as hero, r has density per μ
+//!   q_k(r) = (1/A) 1[p_k ∈ pixel] pdf_t(t_k | p_k) Δ²/cos⁴θ_k.
+//! - *Estimate* for lane j: f_j(r)/((1/N) Σ_k q_k(r)) with f_j = 1[p_j ∈ pixel] τ_j L_j/(K A):
+//!   the one-sample balance heuristic over the N strategies, unbiased wherever some q_k > 0
+//!   covers f_j > 0 (q_j does, up to the pupil bounds' own approximation). A cancels; with
+//!   all preimages equal (a lens without dispersion) it is the per-lane weight
+//!   cos⁴θ/(Δ² pdf_t K) τ_j (tested).
+//! - *Preimages.* The other lanes' (p_k, t_k) come from tracing r backward through the lens
+//!   ([`crate::lens::reverse`]), one lens trace per lane, which gives τ_k (or the Mueller
+//!   matrix) of the same path; the hero's are its forward trace's. Then one integrator call
+//!   with all the lanes live, each lane's light times its weight.
+//!
+//! The images differ from the per-lane estimator's by noise only (tests/lens_hero.rs compares
+//! the two region by region through the N-BK7 singlet and the double Gauss, and the fault
+//! `LensHeroPdfOnly` fails there); with one lane, or a lens of more than
+//! [`MAX_REVERSE_SURFACES`] surfaces, each lane keeps its own ray and path.
+//!
+//! *Why it is not the default* (validation/bench/RESULTS.md, "Lens-system camera against the
+//! pinhole"): it saves the scene paths, not the lens: a camera sample still traces the lens
+//! once per lane (the hero out, the others back, each with its Mueller matrix), and the lens
+//! is most of the cost of a lens render. What it saves is paid for in noise: the lanes'
+//! preimages of one scene ray fall up to a few pixels apart (the double Gauss's colour: at
+//! 360×240, 59 % of its camera samples have a lane whose preimage leaves the pixel or is
+//! blocked), each such lane adds 0 while the others carry more, and one scene path instead of
+//! eight leaves the scene's own noise undivided. On `scenes/lens_dgauss50.toml` it is
+//! 1.2–1.5× faster per sample and 1.6–2.2× slower to equal error; on a scene whose paths cost
+//! more than the lens (the glass-and-mirror room, max_depth 64) 1.7× faster per sample and
+//! 1.13–1.19× faster to equal error.
+//!
 //! **Polarisation.** In a polarised render the Stokes vector arriving along the ray goes
 //! through the lens's Mueller matrix (every surface's exact s/p Fresnel transmission, the
 //! frames turned between surfaces) into the sensor's frame.
 //!
 //! **Refused with it** (one-line errors): `fov_y_deg` (the lens and sensor set the field),
-//! `aperture_radius` (a thin lens), and caustics (light paths cannot be connected to the
-//! camera through glass).
+//! `aperture_radius` (a thin lens), caustics (light paths cannot be connected to the camera
+//! through glass), and `lens_lanes = "shared"` with ghosts (a ghost path's branch choices are
+//! its own lane's).
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -55,7 +105,10 @@ use glam::{DVec3, Vec3};
 use super::{CameraError, Pinhole};
 use crate::geometry::Ray;
 use crate::lens::trace::MAX_LANES;
-use crate::lens::{read_lens_file, CameraRay, LensSystem, SensorSampler, TraceOptions, LAMBDA_D_NM};
+use crate::lens::{
+    read_lens_file, CameraRay, LensSample, LensSystem, PupilSample, ReverseTrace, SensorSampler,
+    TraceOptions, LAMBDA_D_NM, MAX_REVERSE_SURFACES,
+};
 
 // A camera sample's wavelength lanes are traced together.
 const _: () = assert!(MAX_LANES >= crate::spectrum::N_LAMBDA);
@@ -91,12 +144,41 @@ pub struct LensCamera {
     sampler: Arc<SensorSampler>,
     /// The image's width on the sensor (mm): the height times the aspect ratio.
     sensor_width_mm: f64,
+    /// How the lanes of a camera sample find their scene paths.
+    lane_paths: LanePaths,
+}
+
+/// How the wavelength lanes of a lens camera's sample find their scene paths (see the module
+/// header, "One scene path per camera sample").
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LanePaths {
+    /// Each lane its own ray through the lens and its own scene path
+    /// ([`LensCamera::sample_rays_for_lanes`]): the default (`lens_lanes = "per_lane"`).
+    PerLane,
+    /// One scene path for all the lanes, along the hero lane's ray, weighted by spectral MIS
+    /// ([`LensCamera::sample_shared_path`]; `lens_lanes = "shared"`), used when the lens has no
+    /// ghosts and at most [`MAX_REVERSE_SURFACES`] surfaces (otherwise as `PerLane`).
+    Shared,
+}
+
+/// One camera sample of [`LensCamera::sample_shared_path`]: the scene ray all the lanes share
+/// and, per lane, the weights of what comes back along it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HeroSample {
+    /// The scene ray (the hero lane's, out of the lens).
+    pub ray: Ray,
+    /// The lane's weights (`None`: it adds 0): [`CameraRay::weight`] multiplies the radiance
+    /// of unpolarised light, `sensor_weight` × `sample.mueller` the Stokes vector arriving
+    /// along the ray (frames as [`LensCamera::sample_ray`]'s).
+    pub lanes: [Option<CameraRay>; MAX_LANES],
 }
 
 impl PartialEq for LensCamera {
     fn eq(&self, other: &Self) -> bool {
         // The sampler is a function of the settings and the file.
-        self.pinhole == other.pinhole && self.settings == other.settings
+        self.pinhole == other.pinhole
+            && self.settings == other.settings
+            && self.lane_paths == other.lane_paths
     }
 }
 
@@ -167,7 +249,7 @@ impl LensCamera {
         let sensor_width_mm = settings.sensor_height_mm * pinhole.width() as f64 / pinhole.height() as f64;
         let half_diagonal = 0.5 * sensor_width_mm.hypot(settings.sensor_height_mm);
         let sampler = Arc::new(SensorSampler::new(system, half_diagonal, LAMBDA_D_NM));
-        Self { pinhole, settings, sampler, sensor_width_mm }
+        Self { pinhole, settings, sampler, sensor_width_mm, lane_paths: LanePaths::PerLane }
     }
 
     /// The same camera with another resolution: the sensor height stays, the width follows the
@@ -179,7 +261,8 @@ impl LensCamera {
         {
             return Ok(Self { pinhole, ..self.clone() });
         }
-        Ok(Self::with_system(pinhole, self.settings.clone(), self.sampler.tracer.system.clone()))
+        let resized = Self::with_system(pinhole, self.settings.clone(), self.sampler.tracer.system.clone());
+        Ok(resized.with_lane_paths(self.lane_paths))
     }
 
     /// The same camera with its sensor moved `offset_mm` (mm) along the axis from where
@@ -199,7 +282,22 @@ impl LensCamera {
             )));
         }
         system.surfaces[last].thickness_mm = thickness;
-        Ok(Self::with_system(self.pinhole.clone(), self.settings.clone(), system))
+        Ok(Self::with_system(self.pinhole.clone(), self.settings.clone(), system)
+            .with_lane_paths(self.lane_paths))
+    }
+
+    /// The same camera with its lanes finding their scene paths as `lane_paths` says.
+    pub fn with_lane_paths(&self, lane_paths: LanePaths) -> Self {
+        Self { lane_paths, ..self.clone() }
+    }
+
+    /// Whether a render gives a camera sample's lanes one scene path
+    /// ([`Self::sample_shared_path`]): [`LanePaths::Shared`], no ghosts, and a lens of at most
+    /// [`MAX_REVERSE_SURFACES`] surfaces.
+    pub fn shares_scene_path(&self) -> bool {
+        self.lane_paths == LanePaths::Shared
+            && self.settings.max_ghost_reflections == 0
+            && self.sampler.tracer.system.surfaces.len() <= MAX_REVERSE_SURFACES
     }
 
     /// The frame, resolution and paraxial field, as a pinhole.
@@ -317,6 +415,90 @@ impl LensCamera {
         Some(out)
     }
 
+    /// One camera sample whose `lambdas_nm.len()` lanes (1 to [`MAX_LANES`]) share one scene
+    /// path, at film position `film` (pixels) of pixel `pixel`, aimed by the uniform pair
+    /// `u_pupil`, its hero lane chosen by the uniform `u_hero` (see the module header, "One
+    /// scene path per camera sample"). `None` when the hero's ray does not pass the lens (the
+    /// sample adds 0 for every lane). `hero_pdf_only` is the fault
+    /// [`crate::integrator::Fault::LensHeroPdfOnly`]: the hero's density alone in each lane's
+    /// weight. Only for a camera that [`Self::shares_scene_path`].
+    #[allow(clippy::too_many_arguments)] // the sample's numbers, passed flat as sample_ray's
+    pub fn sample_shared_path(
+        &self,
+        pixel: (u32, u32),
+        film: (f32, f32),
+        u_pupil: (f32, f32),
+        u_hero: f32,
+        lambdas_nm: &[f32],
+        polarized: bool,
+        hero_pdf_only: bool,
+    ) -> Option<HeroSample> {
+        let count = lambdas_nm.len().min(MAX_LANES);
+        debug_assert!(count >= 1 && self.shares_scene_path());
+        let hero = ((u_hero * count as f32) as usize).min(count - 1);
+        let sampler = &*self.sampler;
+        let sensor = self.sensor_point_mm(film.0, film.1);
+        let u = [f64::from(u_pupil.0), f64::from(u_pupil.1)];
+        let pupil = sampler.bounds.sample(sensor, u)?;
+        let options =
+            TraceOptions { full_mueller: polarized, ..TraceOptions::new(f64::from(lambdas_nm[hero])) };
+        let exit = sampler.tracer.trace_from_sensor(sensor, pupil.target_mm, &options, &mut || 0.0)?;
+        let scene_ray = crate::lens::Ray { origin: exit.origin_mm, dir: exit.dir };
+        // Per lane: its sample of the lens (None: blocked, or its preimage outside the pixel)
+        // and the sum over the lanes of their densities (times K).
+        let mut samples: [Option<LensSample>; MAX_LANES] = [None; MAX_LANES];
+        samples[hero] = Some(exit);
+        let hero_density = sampler.normalisation.inverse_sensor_weight(sensor, &pupil);
+        let mut density_sum = hero_density;
+        // The other lanes' preimages, traced back together.
+        let others: [usize; MAX_LANES] = std::array::from_fn(|k| if k < hero { k } else { k + 1 });
+        let others = &others[..count - 1];
+        let lambdas: [f64; MAX_LANES] =
+            std::array::from_fn(|k| others.get(k).map_or(0.0, |&lane| f64::from(lambdas_nm[lane])));
+        let mut traces = [ReverseTrace::EMPTY; MAX_LANES];
+        let mut blocked = [None; MAX_LANES];
+        sampler.tracer.trace_lanes_to_sensor(scene_ray, &lambdas[..count - 1], &mut traces, &mut blocked);
+        for ((&lane, reverse), blocked) in others.iter().zip(&traces).zip(blocked) {
+            if blocked.is_some() || !self.in_pixel(pixel, reverse.sensor_mm) {
+                continue;
+            }
+            let preimage = PupilSample {
+                target_mm: reverse.target_mm,
+                pdf_per_mm2: sampler.bounds.pdf_per_mm2(reverse.sensor_mm, reverse.target_mm),
+            };
+            density_sum += sampler.normalisation.inverse_sensor_weight(reverse.sensor_mm, &preimage);
+            samples[lane] = reverse.sample(&sampler.tracer, &options);
+        }
+        // The mixture's density is the mean over the lanes; the fault takes the hero's alone.
+        let sensor_weight = if hero_pdf_only { 1.0 / hero_density } else { count as f64 / density_sum };
+        let ray = self.world_ray(&exit)?;
+        let lanes = samples.map(|sample| {
+            let sample = sample?;
+            let weight = sensor_weight * sample.throughput;
+            (weight > 0.0 && (weight as f32).is_finite()).then_some(CameraRay {
+                sample,
+                sensor_weight,
+                weight,
+            })
+        });
+        Some(HeroSample { ray, lanes })
+    }
+
+    /// Whether the sensor point `sensor_mm` (mm, lens coordinates) is read by pixel `pixel`:
+    /// the inverse of [`Self::sensor_point_mm`], the pixel a box of one pixel's side.
+    fn in_pixel(&self, pixel: (u32, u32), sensor_mm: [f64; 2]) -> bool {
+        let x = (0.5 - sensor_mm[0] / self.sensor_width_mm) * f64::from(self.pinhole.width());
+        let y = (0.5 + sensor_mm[1] / self.settings.sensor_height_mm) * f64::from(self.pinhole.height());
+        x.floor() == f64::from(pixel.0) && y.floor() == f64::from(pixel.1)
+    }
+
+    /// The scene ray of a lens sample, `None` when not finite.
+    fn world_ray(&self, sample: &LensSample) -> Option<Ray> {
+        let origin = self.to_world(sample.origin_mm / MM_PER_METRE);
+        let dir = self.to_world(sample.dir).normalize();
+        (origin.is_finite() && dir.is_finite()).then(|| Ray::new(self.pinhole.position() + origin, dir))
+    }
+
     /// The scene ray of a camera ray that passed the lens, `None` for one of weight 0 or not
     /// finite.
     fn scene_ray(&self, camera_ray: CameraRay) -> Option<(Ray, CameraRay)> {
@@ -379,5 +561,61 @@ mod tests {
             }
         }
         assert!(passed > 100 && blocked > 10, "{passed} passed, {blocked} blocked");
+    }
+
+    #[test]
+    fn without_dispersion_the_shared_path_is_the_per_lane_estimate() {
+        // pbrt-v4's own double Gauss file gives each glass one index for every wavelength:
+        // every lane's preimage of the hero's scene ray is the hero's own (p, t), so the
+        // mixture's density is the hero's and every lane's weights must be those of its own
+        // per-lane ray (the same ray, to rounding), whichever lane is the hero. Tolerance
+        // 1e-12 relative: the reverse trace's rounding (tested in lens::reverse, ~1e-14) and
+        // the sum of eight equal densities divided by eight (~1e-16).
+        let settings = LensSettings {
+            lens: PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/data/lenses/dgauss50_pbrt.dat")),
+            sensor_height_mm: 24.0,
+            focus_distance_m: 6.0,
+            f_number: None,
+            max_ghost_reflections: 0,
+        };
+        let camera =
+            LensCamera::new(Vec3::new(0.0, 1.2, -5.0), Vec3::new(0.0, 0.8, 10.0), Vec3::Y, 36, 24, settings)
+                .expect("the shipped lens");
+        let camera = camera.with_lane_paths(LanePaths::Shared);
+        assert!(camera.shares_scene_path());
+        let lambdas = [365.0, 410.0, 460.0, 510.0, 560.0, 610.0, 680.0, 800.0];
+        let mut compared = 0;
+        for polarized in [false, true] {
+            for i in 0..300 {
+                let a = i as f32 * 0.618_034;
+                let pixel = ((36.0 * (a * 0.37).fract()) as u32, (24.0 * (a * 0.71).fract()) as u32);
+                let film = (pixel.0 as f32 + (a * 0.13).fract(), pixel.1 as f32 + (a * 0.41).fract());
+                let u = ((a * 0.53).fract(), (a * 0.29).fract());
+                let u_hero = (a * 0.87).fract();
+                let per_lane =
+                    camera.sample_rays_for_lanes(film.0, film.1, u, &lambdas, polarized).expect("no ghosts");
+                let shared = camera.sample_shared_path(pixel, film, u, u_hero, &lambdas, polarized, false);
+                let Some(shared) = shared else {
+                    assert!(per_lane.iter().all(Option::is_none), "sample {i}");
+                    continue;
+                };
+                for (lane, (alone, together)) in per_lane.iter().zip(&shared.lanes).enumerate() {
+                    let (Some((ray, alone)), Some(together)) = (alone, together) else {
+                        panic!("sample {i}, lane {lane}: {alone:?} against {together:?}");
+                    };
+                    assert!((ray.dir - shared.ray.dir).abs().max_element() < 1e-6, "sample {i}");
+                    let close = |x: f64, y: f64| (x - y).abs() <= 1e-12 * x.abs().max(y.abs()).max(1e-300);
+                    assert!(close(alone.weight, together.weight), "{} vs {}", alone.weight, together.weight);
+                    assert!(close(alone.sensor_weight, together.sensor_weight), "sample {i}, lane {lane}");
+                    for (x, y) in
+                        alone.sample.mueller.iter().flatten().zip(together.sample.mueller.iter().flatten())
+                    {
+                        assert!((x - y).abs() <= 1e-12 * alone.sample.throughput, "sample {i}, lane {lane}");
+                    }
+                    compared += 1;
+                }
+            }
+        }
+        assert!(compared > 2000, "{compared}");
     }
 }

@@ -29,7 +29,7 @@ mod thin_lens;
 
 use glam::Vec3;
 
-pub use lens_system::{LensCamera, LensSettings};
+pub use lens_system::{HeroSample, LanePaths, LensCamera, LensSettings};
 pub use pinhole::Pinhole;
 pub use thin_lens::ThinLens;
 

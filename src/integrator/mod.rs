@@ -111,6 +111,12 @@ pub enum Fault {
     /// correction for the adjoint of a shading normal (the light side's flux off by
     /// |ω_i·N_s||ω_o·N_g|/(|ω_i·N_g||ω_o·N_s|) at every vertex where the normals differ).
     NoShadingNormalAdjoint,
+    /// A lens-system camera's lanes share the hero wavelength's scene path, each weighted by
+    /// the hero's density alone instead of the mixture over the lanes
+    /// (`crate::camera::LensCamera::sample_shared_path`): light whose preimage at a lane's
+    /// wavelength falls in the pixel but at the hero's outside it is never counted, so the
+    /// image darkens where the lens disperses (lateral and longitudinal colour).
+    LensHeroPdfOnly,
 }
 
 /// The coatings' share of `fault` (`material::dielectric::CoatingFault`).

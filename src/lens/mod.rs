@@ -17,7 +17,8 @@
 //!
 //! Modules: [`prescription`] (the types), [`paraxial`] (first-order data per wavelength),
 //! [`surface_geometry`] (sag, ray–surface hits, normals), [`fresnel_stack`] (f64 Fresnel and
-//! path Mueller matrices), [`trace`] (real rays both ways, ghost branches), [`pupil`] (aiming
+//! path Mueller matrices), [`trace`] (real rays both ways, ghost branches), [`reverse`] (a scene ray
+//! back to the sensor, for the camera's hero wavelength), [`pupil`] (aiming
 //! camera rays and the radiometric weight), [`file`] with [`pbrt`] and [`zmx`] (reading
 //! prescriptions; [`glass_spec`] for a pbrt file's glass column; [`coating`] for coated
 //! surfaces).
@@ -31,6 +32,7 @@ pub mod paraxial;
 pub mod pbrt;
 pub mod prescription;
 pub mod pupil;
+pub mod reverse;
 pub mod surface_geometry;
 pub mod trace;
 pub mod zmx;
@@ -43,4 +45,5 @@ pub use prescription::{LensError, LensSystem, Medium, Surface};
 pub use pupil::{
     CameraRay, ExitPupilBounds, Normalisation, PupilRegion, PupilSample, RearDisc, SensorSampler,
 };
+pub use reverse::{ReverseTrace, MAX_REVERSE_SURFACES};
 pub use trace::{Blocked, LensSample, LensTracer, Ray, TraceOptions};

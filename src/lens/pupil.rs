@@ -395,6 +395,20 @@ impl Normalisation {
     }
 }
 
+impl Normalisation {
+    /// 1/[`Self::sensor_weight`] without the division by the pdf: Δ² pdf K / cos⁴θ, the density
+    /// (times K) of the camera ray from `sensor_mm` to `sample`'s target per unit étendue and
+    /// per unit sensor density (0 where the pdf is 0): what the camera's hero-wavelength
+    /// estimator sums over the lanes.
+    pub fn inverse_sensor_weight(&self, sensor_mm: [f64; 2], sample: &PupilSample) -> f64 {
+        let delta = self.sensor_distance_mm;
+        let offset =
+            DVec3::new(sample.target_mm[0] - sensor_mm[0], sample.target_mm[1] - sensor_mm[1], -delta);
+        let cos_theta = delta / offset.length();
+        delta * delta * sample.pdf_per_mm2 * self.projected_solid_angle_sr / cos_theta.powi(4)
+    }
+}
+
 /// A camera ray with its weight.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CameraRay {

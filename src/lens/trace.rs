@@ -49,7 +49,7 @@ use super::LensSystem;
 /// Accept a surface hit this far behind the ray's origin (mm): only surfaces that touch the
 /// previous one at the origin (a zero-thickness stop, cemented edges) produce such hits, and
 /// their t is 0 to rounding (1e-15 of a 100 mm coordinate is 1e-13 mm).
-const T_MIN_MM: f64 = -1e-9;
+pub(crate) const T_MIN_MM: f64 = -1e-9;
 
 /// A ray in lens coordinates (mm): `origin + t·dir`, `dir` a unit vector.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -457,7 +457,7 @@ impl Meeting {
 /// arithmetic without their zero terms, and only row 0 unless the whole matrix is asked for),
 /// the frame of the previous interface, and the probability of its branch choices.
 #[derive(Clone, Copy)]
-struct CameraPath {
+pub(crate) struct CameraPath {
     path: Mueller4,
     rows: usize,
     previous_x: DVec3,
@@ -469,7 +469,7 @@ struct CameraPath {
 
 impl CameraPath {
     /// The path of a camera ray leaving the sensor along `dir`.
-    fn start(dir: DVec3, options: &TraceOptions) -> Self {
+    pub(crate) fn start(dir: DVec3, options: &TraceOptions) -> Self {
         let fresnel = options.fresnel;
         Self {
             path: MUELLER_IDENTITY,
@@ -484,7 +484,7 @@ impl CameraPath {
 
     /// Adds an interface.
     #[inline]
-    fn visit(&mut self, interaction: &Interaction) {
+    pub(crate) fn visit(&mut self, interaction: &Interaction) {
         let f = &interaction.fresnel;
         if interaction.reflected {
             self.reflections += 1;
@@ -512,7 +512,7 @@ impl CameraPath {
     }
 
     /// The sample of the path that left the lens as `exit`; `None` for a path of probability 0.
-    fn finish(mut self, exit: Ray, options: &TraceOptions) -> Option<LensSample> {
+    pub(crate) fn finish(mut self, exit: Ray, options: &TraceOptions) -> Option<LensSample> {
         if self.probability <= 0.0 {
             return None;
         }
@@ -546,7 +546,7 @@ const CACHED_SURFACES: usize = 32;
 /// The index of each surface's medium at one wavelength, evaluated (its dispersion formula) the
 /// first time a walk needs it and kept: once per surface and trace instead of twice per surface
 /// met. The same function of the same numbers, so the same bits.
-struct MediumIndices<'a> {
+pub(crate) struct MediumIndices<'a> {
     system: &'a LensSystem,
     lambda_nm: f64,
     /// The index behind surface i, NaN until evaluated.
@@ -554,13 +554,13 @@ struct MediumIndices<'a> {
 }
 
 impl<'a> MediumIndices<'a> {
-    fn new(system: &'a LensSystem, lambda_nm: f64) -> Self {
+    pub(crate) fn new(system: &'a LensSystem, lambda_nm: f64) -> Self {
         Self { system, lambda_nm, after: [f64::NAN; CACHED_SURFACES] }
     }
 
     /// The index behind surface `at` (toward +z).
     #[inline]
-    fn after(&mut self, at: usize) -> f64 {
+    pub(crate) fn after(&mut self, at: usize) -> f64 {
         let Some(slot) = self.after.get_mut(at) else {
             return self.system.surfaces[at].medium.n_at_nm(self.lambda_nm);
         };
@@ -572,7 +572,7 @@ impl<'a> MediumIndices<'a> {
 
     /// The index in front of surface `at` (air before the first).
     #[inline]
-    fn before(&mut self, at: usize) -> f64 {
+    pub(crate) fn before(&mut self, at: usize) -> f64 {
         if at == 0 {
             self.system.medium_before(0).n_at_nm(self.lambda_nm)
         } else {

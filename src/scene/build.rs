@@ -16,7 +16,7 @@ use super::desc::{
 use super::error::{line_column, one_line, shorten};
 use super::typed::Typed;
 use super::{IntegratorKind, RenderSettings, Scene, SceneError, Surface};
-use crate::camera::{Camera, LensCamera, LensSettings, Pinhole, ThinLens};
+use crate::camera::{Camera, LanePaths, LensCamera, LensSettings, Pinhole, ThinLens};
 use crate::geometry::{Geometry, Mesh, Plane, Quad, Shape, Sphere};
 use crate::light::{BeamLight, Light, PointLight, QuadLight, SpotLight};
 use crate::material::film::ThicknessTexture;
@@ -199,6 +199,7 @@ impl Builder<'_> {
             ("camera.sensor_height_mm", desc.sensor_height_mm.as_ref().map(Spanned::span)),
             ("camera.f_number", desc.f_number.as_ref().map(Spanned::span)),
             ("camera.lens_ghosts", desc.lens_ghosts.as_ref().map(Spanned::span)),
+            ("camera.lens_lanes", desc.lens_lanes.as_ref().map(Spanned::span)),
         ] {
             if let Some(at) = given {
                 return Err(self.error(at, field, "needs a lens system (camera.lens)"));
@@ -293,8 +294,19 @@ impl Builder<'_> {
             f_number,
             max_ghost_reflections: desc.lens_ghosts.as_ref().map_or(0, |g| *g.get_ref()),
         };
+        let lane_paths = match desc.lens_lanes.as_ref().map(|v| (v.get_ref().as_str(), v.span())) {
+            None | Some(("per_lane", _)) => LanePaths::PerLane,
+            Some(("shared", at)) if settings.max_ghost_reflections > 0 => {
+                return Err(self.error(at, "camera.lens_lanes", "\"shared\" needs lens_ghosts = 0"));
+            }
+            Some(("shared", _)) => LanePaths::Shared,
+            Some((other, at)) => {
+                let message = format!("must be \"per_lane\" or \"shared\", got \"{other}\"");
+                return Err(self.error(at, "camera.lens_lanes", message));
+            }
+        };
         LensCamera::new(position, look_at, up, desc.width, desc.height, settings)
-            .map(Camera::Lens)
+            .map(|camera| Camera::Lens(camera.with_lane_paths(lane_paths)))
             .map_err(|err| self.error(lens.span(), "camera.lens", err.to_string()))
     }
 

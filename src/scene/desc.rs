@@ -93,6 +93,10 @@ pub struct CameraDesc {
     /// With `lens`: the most ghost reflections a camera ray may take (default 0).
     #[serde(default)]
     pub lens_ghosts: Option<Spanned<u32>>,
+    /// With `lens`: how the wavelength lanes of a camera sample find their scene paths,
+    /// `"per_lane"` (default) or `"shared"` (`crate::camera::LanePaths`).
+    #[serde(default)]
+    pub lens_lanes: Option<Spanned<String>>,
 }
 
 fn default_up() -> [f32; 3] {

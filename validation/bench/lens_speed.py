@@ -2,12 +2,21 @@
 section of validation/bench/RESULTS.md (between the `lens_speed.py` markers).
 
 Three cameras on the scene of scenes/lens_dgauss50.toml (ghosts off, unpolarised):
-- `lens, all lanes`: scenes/lens_dgauss50.toml as shipped: every camera sample traces its 8
-  wavelength lanes through the double Gauss, each with its own integrator call;
+- `lens, all lanes`: scenes/lens_dgauss50.toml as shipped (`lens_lanes = "per_lane"`, the
+  default): every camera sample traces its 8 wavelength lanes through the double Gauss, each
+  with its own integrator call;
+- `lens, shared path`: the same with `lens_lanes = "shared"` (src/camera/lens_system.rs): the
+  hero lane's ray traced out through the lens, the 7 others back through it from the scene ray
+  (spectral MIS), one integrator call for all 8;
 - `lens, one lane`: the same with `[render] wavelengths = 1`: each camera sample one wavelength,
   stratified over the pixel's samples (the wavelength dimension), one lens trace and one
   integrator call; unbiased as any `wavelengths` count is (the film divides by the sampling pdf);
 - `pinhole`: scenes/lens_pinhole.toml (the same scene through a pinhole of the same field).
+
+Plus a heavier scene, where the scene's paths cost more than the lens
+(validation/scenes/stokes_room_path.toml, the glass-and-mirror room, max_depth 64, made
+unpolarised, at 150×100), seen through the double Gauss (sensor 24 mm, f/2.8, focused at 5 m) and
+through a pinhole of the same field (27°): equal spp only (16 spp, `--repeats` rounds alternating).
 
 1. Equal spp: render_seconds (from `--stats`: no loading, no lens set-up, no writing) at the
    scenes' resolution and spp, the three alternating, `--repeats` rounds, best of each.
@@ -43,9 +52,21 @@ END = "<!-- lens_speed.py: end -->"
 HEADLINE_MARK = "lens camera vs pinhole"
 LENS = ROOT / "scenes" / "lens_dgauss50.toml"
 PINHOLE = ROOT / "scenes" / "lens_pinhole.toml"
-SERIES_SPP = {"lens, all lanes": [4, 16, 64], "lens, one lane": [4, 16, 64, 256, 1024],
+ROOM = ROOT / "validation" / "scenes" / "stokes_room_path.toml"
+SERIES_SPP = {"lens, all lanes": [4, 16, 64], "lens, shared path": [4, 16, 64, 256],
+              "lens, one lane": [4, 16, 64, 256, 1024],
               "pinhole": [1, 2, 4, 16, 64, 256]}
 TARGETS = [1e-2, 3e-3, 1e-3]
+
+
+def shared_scene(directory):
+    """scenes/lens_dgauss50.toml with `lens_lanes = "shared"` in [camera] and the lens file's path
+    made absolute."""
+    text = LENS.read_text().replace('lens = "../data/', f'lens = "{ROOT}/data/')
+    text = re.sub(r"(\[camera\]\n)", r'\1lens_lanes = "shared"\n', text, count=1)
+    path = Path(directory) / "lens_dgauss50_shared.toml"
+    path.write_text(text)
+    return path
 
 
 def one_lane_scene(directory):
@@ -57,6 +78,23 @@ def one_lane_scene(directory):
     path = Path(directory) / "lens_dgauss50_one_lane.toml"
     path.write_text(text)
     return path
+
+
+def room_scenes(directory):
+    """validation/scenes/stokes_room_path.toml through the double Gauss (per-lane and shared
+    paths) and through a pinhole of the same vertical field (27°), unpolarised: (lens scene,
+    shared-path lens scene, pinhole scene)."""
+    text = ROOM.read_text().replace("polarized = true", "polarized = false")
+    frame = "up = [0, 1, 0]\nfov_y_deg = 45\n"
+    assert frame in text, "the room's camera block changed"
+    lens = text.replace(frame, f'up = [0, 1, 0]\nlens = "{ROOT}/data/lenses/dgauss50.dat"\nsensor_height_mm = 24\n'
+                               'focus_distance = 5\nf_number = 2.8\n')
+    shared = lens.replace("f_number = 2.8\n", 'f_number = 2.8\nlens_lanes = "shared"\n')
+    pinhole = text.replace(frame, "up = [0, 1, 0]\nfov_y_deg = 27\n")
+    paths = tuple(Path(directory) / f"room_{name}.toml" for name in ("lens", "shared", "pinhole"))
+    for path, scene in zip(paths, (lens, shared, pinhole)):
+        path.write_text(scene)
+    return paths
 
 
 def render(prisma, scene, out, spp, threads, seed, width=None):
@@ -88,7 +126,8 @@ def main():
     load_before = os.getloadavg()[0]
     work = Path(tempfile.mkdtemp(prefix="lens_speed_"))
     one = one_lane_scene(work)
-    cameras = {"lens, all lanes": LENS, "lens, one lane": one, "pinhole": PINHOLE}
+    cameras = {"lens, all lanes": LENS, "lens, shared path": shared_scene(work), "lens, one lane": one,
+               "pinhole": PINHOLE}
 
     # 1. Equal spp at the scenes' own resolution and spp (16), alternating.
     rounds = [(name, args.prisma, scene) for name, scene in cameras.items()]
@@ -99,6 +138,18 @@ def main():
         for name, binary, scene in rounds:
             equal_spp[name].append(render(binary, scene, work / "equal.exr", 16, args.threads, 7))
     best = {name: min(times) for name, times in equal_spp.items()}
+
+    # 1b. The heavier scene, equal spp.
+    room_lens, room_shared, room_pinhole = room_scenes(work)
+    room_rounds = [("room, lens", args.prisma, room_lens), ("room, lens, shared path", args.prisma, room_shared),
+                   ("room, pinhole", args.prisma, room_pinhole)]
+    if args.baseline:
+        room_rounds.append((f"room, lens ({args.baseline_name})", args.baseline, room_lens))
+    room_spp = {name: [] for name, _, _ in room_rounds}
+    for _ in range(args.repeats):
+        for name, binary, scene in room_rounds:
+            room_spp[name].append(render(binary, scene, work / "room.exr", 16, args.threads, 7))
+    room_best = {name: min(times) for name, times in room_spp.items()}
 
     # 2. References.
     refs = Path(args.refs) if args.refs else work
@@ -139,7 +190,8 @@ def main():
              f" --threads {args.threads} --repeats {args.repeats} --width {args.width} --ref-spp {args.ref_spp}"
              f"{' --baseline BIN --baseline-name ' + repr(args.baseline_name) if args.baseline else ''}`"
              f" (written to this file). Scenes: `scenes/lens_dgauss50.toml` (double Gauss 50 mm at f/2.8, ghosts "
-             f"off, unpolarised, 8 wavelength lanes), the same with `[render] wavelengths = 1` (one lane), "
+             f"off, unpolarised, 8 wavelength lanes), the same with `lens_lanes = \"shared\"` (shared path), "
+             f"the same with `[render] wavelengths = 1` (one lane), "
              f"`scenes/lens_pinhole.toml`; all `path`, max_depth 8, `--threads {args.threads}`.", "",
              "### Equal spp (360×240, 16 spp, seed 7)", "",
              "render_seconds (no loading, no lens set-up, no writing), rounds alternating the three cameras:", "",
@@ -147,6 +199,14 @@ def main():
     for name, times in equal_spp.items():
         lines.append(f"| {name} | {', '.join(f'{t:.2f}' for t in times)} | {best[name]:.2f} | "
                      f"**{best[name] / best['pinhole']:.1f}×** |")
+    lines += ["", "### A heavier scene: the glass-and-mirror room (150×100, 16 spp, seed 7)", "",
+              "`validation/scenes/stokes_room_path.toml` (max_depth 64) made unpolarised, through the double Gauss "
+              "(sensor 24 mm, f/2.8, focused at 5 m) and a pinhole of the same 27° field (`room_scenes` in the "
+              "script); render_seconds, rounds alternating:", "",
+              "| camera | render seconds, each round | best | / pinhole |", "|---|---|---|---|"]
+    for name, times in room_spp.items():
+        lines.append(f"| {name} | {', '.join(f'{t:.2f}' for t in times)} | {room_best[name]:.2f} | "
+                     f"**{room_best[name] / room_best['room, pinhole']:.1f}×** |")
     lines += ["", f"### Equal error ({args.width} px wide, seed 7; references seeds 1 and 2 at {args.ref_spp} spp "
                   f"(lens, all lanes) and {4 * args.ref_spp} spp (pinhole))", "",
               "| camera | spp | render seconds (best of 2) | relMSE |", "|---|---|---|---|"]
@@ -168,7 +228,8 @@ def main():
     for target in TARGETS:
         pin = times_at[("pinhole", target)]
         lines.append(f"- relMSE {target:.0e}: lens all lanes **{times_at[('lens, all lanes', target)] / pin:.1f}×** "
-                     f"the pinhole's time, one lane **{times_at[('lens, one lane', target)] / pin:.1f}×**.")
+                     f"the pinhole's time, shared path **{times_at[('lens, shared path', target)] / pin:.1f}×**, "
+                     f"one lane **{times_at[('lens, one lane', target)] / pin:.1f}×**.")
     lines += ["", END]
     section = "\n".join(lines)
     text = RESULTS.read_text()
