@@ -312,26 +312,33 @@ impl Dielectric {
     ) -> StackLanes {
         let glass: Lanes = n_glass.map(f64::from);
         let wavenumber: Lanes = lambda_nm.map(|nm| std::f64::consts::TAU / f64::from(nm));
-        let layer_lanes = |layer: &CoatingLayer| LayerLanes {
-            index: match &layer.index {
-                LayerIndex::Real(Ior::Constant(n)) => [f64::from(*n); N_LAMBDA],
-                index => lambda_nm.map(|nm| index.at(nm).re),
-            },
-            thickness_nm: if phase_dropped { 0.0 } else { f64::from(layer.thickness_nm) },
+        let from_inside = cos_theta_i < 0.0;
+        // The layers at these wavelengths, in the order the light crosses them, on the stack: a
+        // short array for the common short coatings, the longest accepted otherwise.
+        let empty = LayerLanes { index: [1.0; N_LAMBDA], thickness_nm: 0.0 };
+        let mut short = [empty; SHORT_COATING];
+        let mut long;
+        let layers: &mut [LayerLanes] = if self.coating.len() <= SHORT_COATING {
+            &mut short
+        } else {
+            long = [empty; MAX_COATING_LAYERS];
+            &mut long
         };
+        let count = self.coating.len().min(layers.len());
+        for (slot, layer) in self.coating[..count].iter().enumerate() {
+            let at = if from_inside { count - 1 - slot } else { slot };
+            layers[at] = LayerLanes {
+                index: match &layer.index {
+                    LayerIndex::Real(Ior::Constant(n)) => [f64::from(*n); N_LAMBDA],
+                    index => lambda_nm.map(|nm| index.at(nm).re),
+                },
+                thickness_nm: if phase_dropped { 0.0 } else { f64::from(layer.thickness_nm) },
+            };
+        }
         let cos = f64::from(cos_theta_i.abs().min(1.0));
         let vacuum = [1.0; N_LAMBDA];
-        if cos_theta_i < 0.0 {
-            lossless_stack_lanes(
-                &glass,
-                self.coating.iter().rev().map(layer_lanes),
-                &vacuum,
-                &wavenumber,
-                cos,
-            )
-        } else {
-            lossless_stack_lanes(&vacuum, self.coating.iter().map(layer_lanes), &glass, &wavenumber, cos)
-        }
+        let (ambient, substrate) = if from_inside { (&glass, &vacuum) } else { (&vacuum, &glass) };
+        lossless_stack_lanes(ambient, &layers[..count], substrate, &wavenumber, cos)
     }
 }
 
