@@ -22,6 +22,7 @@
 //! ```
 
 use num_complex::{Complex32, Complex64};
+use wide::f64x8;
 
 use crate::optics::metals::MetalEntry;
 use crate::optics::thin_film::lanes::{lossless_stack_lanes, Lanes, LayerLanes, StackLanes};
@@ -43,6 +44,9 @@ pub struct Dielectric {
     /// a bare interface. At most [`MAX_COATING_LAYERS`].
     pub coating: Vec<CoatingLayer>,
 }
+
+/// Every lane's bit.
+const ALL_LANES: u32 = (1 << N_LAMBDA) - 1;
 
 /// Coatings of up to this many layers are evaluated in a short array.
 const SHORT_COATING: usize = 8;
@@ -155,20 +159,22 @@ pub fn coating_amplitudes(
 }
 
 /// The Mueller matrices of Jones matrices diag(x, y) at every lane ([`JonesDiagonal::new`] lane
-/// by lane), x and y given as real and imaginary parts in f64 and narrowed to f32 first.
+/// by lane), x and y given as real and imaginary parts: the elements formed in f64 (vector
+/// arithmetic, fused multiply-adds) and narrowed to f32 once (`JonesDiagonal::new` narrows the
+/// amplitudes first: the same to f32 rounding).
 #[inline(always)]
 fn elements(x: &[Lanes; 2], y: &[Lanes; 2]) -> Mueller {
-    let narrow_lanes = |parts: &Lanes| SampledSpectrum { values: parts.map(|value| value as f32) };
     let (x_re, x_im, y_re, y_im) =
-        (narrow_lanes(&x[0]), narrow_lanes(&x[1]), narrow_lanes(&y[0]), narrow_lanes(&y[1]));
-    let power_x = x_re * x_re + x_im * x_im;
-    let power_y = y_re * y_re + y_im * y_im;
-    let half = SampledSpectrum::splat(0.5);
+        (f64x8::from(x[0]), f64x8::from(x[1]), f64x8::from(y[0]), f64x8::from(y[1]));
+    let power_x = x_re.mul_add(x_re, x_im * x_im);
+    let power_y = y_re.mul_add(y_re, y_im * y_im);
+    let half = f64x8::HALF;
+    let narrow_lanes = |lanes: f64x8| SampledSpectrum { values: lanes.to_array().map(|value| value as f32) };
     Mueller {
-        a: half * (power_x + power_y),
-        b: half * (power_x - power_y),
-        w_re: x_re * y_re + x_im * y_im,
-        w_im: x_im * y_re - x_re * y_im,
+        a: narrow_lanes(half * (power_x + power_y)),
+        b: narrow_lanes(half * (power_x - power_y)),
+        w_re: narrow_lanes(x_re.mul_add(y_re, x_im * y_im)),
+        w_im: narrow_lanes(x_im.mul_sub(y_re, x_re * y_im)),
     }
 }
 
@@ -278,16 +284,20 @@ impl Dielectric {
             // JonesDiagonal::new of the amplitudes narrowed to f32, every lane at once.
             reflection = elements(&stack.r_s, &stack.r_p);
             transmission = elements(&stack.flux_s, &stack.flux_p);
-            for lane in (0..N_LAMBDA).filter(|&lane| live & (1 << lane) == 0 || !stack.valid[lane]) {
+            let kept = live & !stack.refused;
+            if kept & ALL_LANES != ALL_LANES {
+                let keep: [bool; N_LAMBDA] = std::array::from_fn(|lane| kept & (1 << lane) != 0);
                 for matrix in [&mut reflection, &mut transmission] {
                     for component in [&mut matrix.a, &mut matrix.b, &mut matrix.w_re, &mut matrix.w_im] {
-                        component.values[lane] = 0.0;
+                        component.values =
+                            std::array::from_fn(|l| if keep[l] { component.values[l] } else { 0.0 });
                     }
                 }
             }
-            scalar &= (0..N_LAMBDA).filter(|&lane| !stack.valid[lane]).fold(0, |bits, lane| bits | 1 << lane);
+            scalar &= stack.refused;
         }
-        for lane in (0..N_LAMBDA).filter(|&lane| scalar & (1 << lane) != 0) {
+        let scalar = scalar & ALL_LANES;
+        for lane in (0..N_LAMBDA).filter(|&lane| scalar != 0 && scalar & (1 << lane) != 0) {
             let interface = self.coated_interface(cos_theta_i, n_glass[lane], lambda_nm[lane], fault);
             for (matrix, element) in
                 [(&mut reflection, interface.reflection), (&mut transmission, interface.transmission)]

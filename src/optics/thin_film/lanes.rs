@@ -9,7 +9,7 @@
 //! each has its own wavelength, ambient, substrate and layer indices (a dispersive glass or
 //! layer). A lane the real method cannot take (a layer at or past its critical angle, the
 //! substrate at its, a phase beyond the exact reduction of the shared sin/cos, a vanishing
-//! denominator) is flagged in [`StackLanes::valid`]; the caller evaluates it with
+//! denominator) is flagged in [`StackLanes::refused`]; the caller evaluates it with
 //! [`super::thin_film_amplitudes`], which takes every case. Layers of zero thickness are skipped,
 //! as both scalar paths skip them.
 //!
@@ -69,8 +69,9 @@ pub struct StackLanes {
     pub flux_s: [Lanes; 2],
     /// Re and Im of the p flux amplitude √T_p·e^{i arg t_p}.
     pub flux_p: [Lanes; 2],
-    /// False where the real method does not hold and the values above are meaningless.
-    pub valid: [bool; LANES],
+    /// Bit l set where lane l is refused: the real method does not hold there and the values
+    /// above are meaningless.
+    pub refused: u32,
 }
 
 /// A real 2 × 2 product [[a, i·b], [i·c, d]] per lane (module documentation of `thin_film`),
@@ -119,6 +120,27 @@ pub fn lossless_stack_lanes(
     let wavenumber = f64x8::from(*wavenumber_per_nm);
     // n₀² sin² θ₀ per lane, conserved across every interface.
     let invariant_sqr = n0 * n0 * f64x8::splat(sin_i_sqr);
+    // The ambient's and the substrate's part first (it does not depend on the layers, and so
+    // overlaps with them). The substrate's n cos θ = u + i·v: real (u > 0) where the wave
+    // propagates, −i·q (evanescent, total internal reflection behind the stack) where it does
+    // not; exactly at the critical angle the lane is refused.
+    let ns = f64x8::from(*n_substrate);
+    let x = ns * ns - invariant_sqr;
+    let root = x.abs().sqrt();
+    let propagates = x.simd_gt(f64x8::ZERO);
+    let (u, v) = (propagates.select(root, f64x8::ZERO), propagates.select(f64x8::ZERO, -root));
+    refused |= x.simd_eq(f64x8::ZERO).to_bitmask();
+    // 1/n₀ and 1/n_sub from one division (both are indices, 1e-3 to 1e3 at most: no overflow).
+    let inverse_both = f64x8::ONE / (n0 * ns);
+    let (inverse_n0, inverse_ns) = (ns * inverse_both, n0 * inverse_both);
+    let inverse_index_sqr = inverse_ns * inverse_ns;
+    let cos_i = f64x8::splat(cos_i);
+    let y0_s = n0 * cos_i;
+    let y0_p = cos_i * inverse_n0;
+    // 2√(y₀·Re(y_sub)) for s, and for p the same over n₀·n_sub (times the gains after the
+    // layers, module documentation).
+    let flux_root_s = f64x8::splat(2.0) * (y0_s * u).sqrt();
+    let flux_root_p = flux_root_s * inverse_both;
     let (mut s, mut p) = (Characteristic::IDENTITY, Characteristic::IDENTITY);
     // The products of the layers' scale factors g (module documentation), for s and p.
     let (mut gain_s, mut gain_p) = (f64x8::ONE, f64x8::ONE);
@@ -135,9 +157,11 @@ pub fn lossless_stack_lanes(
         refused |= (!evanescent & phase.simd_gt(f64x8::splat(SIN_COS_LIMIT))).to_bitmask();
         if evanescent.any() {
             // β = −i·t, t = k·d·q: cos β = cosh t, sin β = −i·sinh t; the scaled matrix below is
-            // then the same expression with (cosh t, sinh t) for (cos β, sin β).
+            // then the same expression with (cosh t, sinh t) for (cos β, sin β). cosh t from
+            // the e^t that `sinh` takes (the same expression: the compiler evaluates it once).
+            let e = phase.abs().exp();
             sin = evanescent.select(phase.sinh(), sin);
-            cos = evanescent.select(phase.cosh(), cos);
+            cos = evanescent.select((e + f64x8::ONE / e) * f64x8::HALF, cos);
             refused |= (evanescent & phase.simd_gt(f64x8::splat(HYPERBOLIC_LIMIT))).to_bitmask();
         }
         // s: root·[[cos β, i sin β/y], [i y sin β, cos β]] = [[root·cos, i·sin], [i·x·sin,
@@ -150,38 +174,13 @@ pub fn lossless_stack_lanes(
         gain_s *= root;
         gain_p *= root * index_sqr;
     }
-    // The substrate's n cos θ = u + i·v: real (u > 0) where the wave propagates, −i·q
-    // (evanescent, total internal reflection behind the stack) where it does not; exactly
-    // at the critical angle the lane is refused.
-    let ns = f64x8::from(*n_substrate);
-    let x = ns * ns - invariant_sqr;
-    let root = x.abs().sqrt();
-    let propagates = x.simd_gt(f64x8::ZERO);
-    let (u, v) = (propagates.select(root, f64x8::ZERO), propagates.select(f64x8::ZERO, -root));
-    refused |= x.simd_eq(f64x8::ZERO).to_bitmask();
-    let inverse_n0 = f64x8::ONE / n0;
-    let inverse_ns = f64x8::ONE / ns;
-    let inverse_index_sqr = inverse_ns * inverse_ns;
-    let cos_i = f64x8::splat(cos_i);
-    let y0_s = n0 * cos_i;
-    let y0_p = cos_i * inverse_n0;
-    // 2√(y₀·Re(y_sub)) for s, and for p the same over n₀·n_sub; times the gain, which the
-    // scaled D carries.
-    let flux_root = f64x8::splat(2.0) * (y0_s * u).sqrt();
-    let flux_factor_s = flux_root * gain_s;
-    let flux_factor_p = flux_root * inverse_n0 * inverse_ns * gain_p;
+    let (flux_factor_s, flux_factor_p) = (flux_root_s * gain_s, flux_root_p * gain_p);
     let (r_s, flux_s, refused_s) = solve(&s, y0_s, u, v, flux_factor_s);
     let (r_p, flux_p, refused_p) =
         solve(&p, y0_p, u * inverse_index_sqr, v * inverse_index_sqr, flux_factor_p);
     refused |= refused_s | refused_p;
     let parts = |[re, im]: [f64x8; 2]| [re.to_array(), im.to_array()];
-    StackLanes {
-        r_s: parts(r_s),
-        r_p: parts(r_p),
-        flux_s: parts(flux_s),
-        flux_p: parts(flux_p),
-        valid: std::array::from_fn(|l| refused & (1 << l) == 0),
-    }
+    StackLanes { r_s: parts(r_s), r_p: parts(r_p), flux_s: parts(flux_s), flux_p: parts(flux_p), refused }
 }
 
 /// r and the flux amplitude (each as Re, Im) of the scaled product `m` between an ambient of
@@ -264,7 +263,7 @@ mod tests {
                     .map(|layer| Layer::dielectric(layer.index[l], layer.thickness_nm))
                     .collect();
                 let invariant = n_ambient[l] * n_ambient[l] * (1.0 - cos_i * cos_i);
-                assert!(lanes.valid[l], "lane {l} refused: {scalar_layers:?}, cos {cos_i}");
+                assert!(lanes.refused & (1 << l) == 0, "lane {l} refused: {scalar_layers:?}, cos {cos_i}");
                 past_critical +=
                     usize::from(scalar_layers.iter().any(|layer| {
                         layer.thickness_nm > 0.0 && layer.index.re * layer.index.re < invariant
