@@ -44,10 +44,11 @@ const SIN_COS_LIMIT: f64 = 1e5;
 /// overflows f64 past t ≈ 710); a lane beyond it is refused.
 const HYPERBOLIC_LIMIT: f64 = 700.0;
 
-/// Below this |D|² (of the scaled product, module documentation) a lane is refused: the
-/// scaled entries could have lost terms to underflow (|D| ≥ 1e-125 leaves 180 orders of
-/// magnitude above f64's smallest normal).
-const SMALLEST_NORM_SQR: f64 = 1e-250;
+/// Below this |D|² (of the scaled product, module documentation), and above its inverse, a lane
+/// is refused: the scaled entries could have lost terms to underflow (|D| ≥ 1e-75 leaves more
+/// than 200 orders of magnitude above f64's smallest normal), and the product of the s and p
+/// values, whose inverse is taken once for both, stays within f64's range.
+const SMALLEST_NORM_SQR: f64 = 1e-150;
 
 /// One layer of a lossless stack at every lane.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -130,17 +131,10 @@ pub fn lossless_stack_lanes(
     let propagates = x.simd_gt(f64x8::ZERO);
     let (u, v) = (propagates.select(root, f64x8::ZERO), propagates.select(f64x8::ZERO, -root));
     refused |= x.simd_eq(f64x8::ZERO).to_bitmask();
-    // 1/n₀ and 1/n_sub from one division (both are indices, 1e-3 to 1e3 at most: no overflow).
-    let inverse_both = f64x8::ONE / (n0 * ns);
-    let (inverse_n0, inverse_ns) = (ns * inverse_both, n0 * inverse_both);
-    let inverse_index_sqr = inverse_ns * inverse_ns;
     let cos_i = f64x8::splat(cos_i);
     let y0_s = n0 * cos_i;
-    let y0_p = cos_i * inverse_n0;
-    // 2√(y₀·Re(y_sub)) for s, and for p the same over n₀·n_sub (times the gains after the
-    // layers, module documentation).
-    let flux_root_s = f64x8::splat(2.0) * (y0_s * u).sqrt();
-    let flux_root_p = flux_root_s * inverse_both;
+    // 2√(y₀·Re(y_sub)) of s (for p see below; times the gains after the layers).
+    let flux_root = f64x8::splat(2.0) * (y0_s * u).sqrt();
     let (mut s, mut p) = (Characteristic::IDENTITY, Characteristic::IDENTITY);
     // The products of the layers' scale factors g (module documentation), for s and p.
     let (mut gain_s, mut gain_p) = (f64x8::ONE, f64x8::ONE);
@@ -174,44 +168,69 @@ pub fn lossless_stack_lanes(
         gain_s *= root;
         gain_p *= root * index_sqr;
     }
-    let (flux_factor_s, flux_factor_p) = (flux_root_s * gain_s, flux_root_p * gain_p);
-    let (r_s, flux_s, refused_s) = solve(&s, y0_s, u, v, flux_factor_s);
-    let (r_p, flux_p, refused_p) =
-        solve(&p, y0_p, u * inverse_index_sqr, v * inverse_index_sqr, flux_factor_p);
-    refused |= refused_s | refused_p;
+    // s: D = y₀B + C with y₀ = n₀ cos θ₀ and y_sub = u + i·v. p (y₀ = cos θ₀/n₀, y_sub/n_sub²)
+    // multiplied through by n₀·n_sub², which r does not see and which leaves no division:
+    // n₀n_sub²·D_p = cos θ₀·(n_sub²a + i·b·y_sub) + n₀·(i·n_sub²c + d·y_sub), and the p flux
+    // amplitude 2√(y₀,p·Re(y_sub,p))·conj(D_p)/|D_p|² = 2√(y₀·u)·n_sub·conj(D̃)/|D̃|² for
+    // D̃ = n₀n_sub²·D_p (y₀,p·Re(y_sub,p) = y₀,s·u/(n₀·n_sub)²).
+    let ns_sqr = ns * ns;
+    let p = Characteristic { a: p.a * ns_sqr, c: p.c * ns_sqr, ..p };
+    let (front_s, back_s) = halves(&s, y0_s, f64x8::ONE, u, v);
+    let (front_p, back_p) = halves(&p, cos_i, n0, u, v);
+    let (den_s, den_p) = (add(front_s, back_s), add(front_p, back_p));
+    let norm_s = den_s[0].mul_add(den_s[0], den_s[1] * den_s[1]);
+    let norm_p = den_p[0].mul_add(den_p[0], den_p[1] * den_p[1]);
+    // 1/|D_s|² and 1/|D̃|² from one division: both in [1e-150, 1e150] (else refused), so that
+    // their product neither overflows nor underflows.
+    let inverse = f64x8::ONE / (norm_s * norm_p);
+    let (inverse_s, inverse_p) = (norm_p * inverse, norm_s * inverse);
+    let (r_s, flux_s) = amplitudes(front_s, back_s, den_s, inverse_s, flux_root * gain_s);
+    let (r_p, flux_p) = amplitudes(front_p, back_p, den_p, inverse_p, flux_root * gain_p * ns);
+    let (low, high) = (f64x8::splat(SMALLEST_NORM_SQR), f64x8::splat(1.0 / SMALLEST_NORM_SQR));
+    // NaN fails the comparisons; a flux that is not finite (a gain that overflowed) is refused.
+    let accepted = norm_s.simd_ge(low)
+        & norm_s.simd_le(high)
+        & norm_p.simd_ge(low)
+        & norm_p.simd_le(high)
+        & flux_s[0].is_finite()
+        & flux_s[1].is_finite()
+        & flux_p[0].is_finite()
+        & flux_p[1].is_finite();
+    refused |= !accepted.to_bitmask() & ((1 << LANES) - 1);
     let parts = |[re, im]: [f64x8; 2]| [re.to_array(), im.to_array()];
     StackLanes { r_s: parts(r_s), r_p: parts(r_p), flux_s: parts(flux_s), flux_p: parts(flux_p), refused }
 }
 
-/// r and the flux amplitude (each as Re, Im) of the scaled product `m` between an ambient of
-/// admittance `y0` and a substrate of admittance u + i·v (v = 0 or u = 0), and the refused
-/// lanes' bits. y₀B = y₀(a − b·v) + i·y₀·b·u, C = d·u + i(c + d·v), D = y₀B + C;
-/// r = (y₀B − C)·conj(D)/|D|², flux = factor·conj(D)/|D|².
+/// The two halves of D = front + back (each as Re, Im) of the scaled product `m`:
+/// front = w_front·B = w_front·((a − b·v) + i·b·u), back = w_back·C = w_back·(d·u + i(c + d·v))
+/// for a substrate admittance u + i·v (v = 0 or u = 0).
 #[inline(always)]
-fn solve(
-    m: &Characteristic,
-    y0: f64x8,
-    u: f64x8,
-    v: f64x8,
+fn halves(m: &Characteristic, w_front: f64x8, w_back: f64x8, u: f64x8, v: f64x8) -> ([f64x8; 2], [f64x8; 2]) {
+    let front = [w_front * m.b.mul_neg_add(v, m.a), w_front * m.b * u];
+    let back = [w_back * m.d * u, w_back * m.d.mul_add(v, m.c)];
+    (front, back)
+}
+
+/// The complex sum of two (Re, Im) pairs.
+#[inline(always)]
+fn add(x: [f64x8; 2], y: [f64x8; 2]) -> [f64x8; 2] {
+    [x[0] + y[0], x[1] + y[1]]
+}
+
+/// r = (front − back)·conj(D)/|D|² and the flux amplitude factor·conj(D)/|D|², each as
+/// (Re, Im), given D = front + back and `inverse` = 1/|D|².
+#[inline(always)]
+fn amplitudes(
+    front: [f64x8; 2],
+    back: [f64x8; 2],
+    den: [f64x8; 2],
+    inverse: f64x8,
     flux_factor: f64x8,
-) -> ([f64x8; 2], [f64x8; 2], u32) {
-    let (front_re, front_im) = (y0 * m.b.mul_neg_add(v, m.a), y0 * m.b * u);
-    let (back_re, back_im) = (m.d * u, m.d.mul_add(v, m.c));
-    let (den_re, den_im) = (front_re + back_re, front_im + back_im);
-    let norm_sqr = den_re.mul_add(den_re, den_im * den_im);
-    let inverse = f64x8::ONE / norm_sqr;
-    // conj(D)/|D|².
-    let (conj_re, conj_im) = (den_re * inverse, -den_im * inverse);
-    let (num_re, num_im) = (front_re - back_re, front_im - back_im);
+) -> ([f64x8; 2], [f64x8; 2]) {
+    let (conj_re, conj_im) = (den[0] * inverse, -den[1] * inverse);
+    let (num_re, num_im) = (front[0] - back[0], front[1] - back[1]);
     let r = [num_re.mul_sub(conj_re, num_im * conj_im), num_re.mul_add(conj_im, num_im * conj_re)];
-    let flux = [flux_factor * conj_re, flux_factor * conj_im];
-    // Refused: |D|² too small or not finite (NaN fails the comparison), or a flux that is not
-    // finite (the gain overflowed).
-    let accepted = norm_sqr.simd_ge(f64x8::splat(SMALLEST_NORM_SQR))
-        & norm_sqr.is_finite()
-        & flux[0].is_finite()
-        & flux[1].is_finite();
-    (r, flux, !accepted.to_bitmask() & 0xff)
+    (r, [flux_factor * conj_re, flux_factor * conj_im])
 }
 
 #[cfg(test)]
