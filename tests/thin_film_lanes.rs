@@ -46,7 +46,7 @@ const AMPLITUDE_TOLERANCE: f64 = 1e-9;
 /// The coatings the scenes and the benchmark use, as (n, thickness in nm) from the outside in.
 fn shipped_coatings() -> Vec<(&'static str, Vec<(Ior, f32)>)> {
     let constant = |layers: &[(f32, f32)]| layers.iter().map(|&(n, d)| (Ior::Constant(n), d)).collect();
-    let mut mirror = vec![(2.4, 57.29), (1.46, 94.18)].repeat(7);
+    let mut mirror = [(2.4, 57.29), (1.46, 94.18)].repeat(7);
     mirror.push((2.4, 57.29));
     vec![
         ("MgF₂ quarter wave", constant(&[(1.38, 99.64)])),
