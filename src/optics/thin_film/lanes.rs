@@ -138,6 +138,9 @@ pub fn lossless_stack_lanes(
     let (mut s, mut p) = (Characteristic::IDENTITY, Characteristic::IDENTITY);
     // The products of the layers' scale factors g (module documentation), for s and p.
     let (mut gain_s, mut gain_p) = (f64x8::ONE, f64x8::ONE);
+    // The largest phase of any layer (lanes beyond the sin/cos range are refused at the end).
+    let mut largest_phase = f64x8::ZERO;
+    let mut first = true;
     for layer in layers.iter().filter(|layer| layer.thickness_nm > 0.0) {
         let index = f64x8::from(layer.index);
         let index_sqr = index * index;
@@ -146,9 +149,9 @@ pub fn lossless_stack_lanes(
         let x = index_sqr - invariant_sqr;
         let root = x.abs().sqrt();
         let phase = wavenumber * f64x8::splat(layer.thickness_nm) * root;
-        let (mut sin, mut cos) = phase.sin_cos();
+        largest_phase = largest_phase.max(phase);
+        let (mut sin, mut cos) = sin_cos_lanes(phase);
         let evanescent = x.simd_le(f64x8::ZERO);
-        refused |= (!evanescent & phase.simd_gt(f64x8::splat(SIN_COS_LIMIT))).to_bitmask();
         if evanescent.any() {
             // β = −i·t, t = k·d·q: cos β = cosh t, sin β = −i·sinh t; the scaled matrix below is
             // then the same expression with (cosh t, sinh t) for (cos β, sin β). cosh t from
@@ -163,11 +166,20 @@ pub fn lossless_stack_lanes(
         // n²·root·cos]].
         let diagonal = root * cos;
         let lower = x * sin;
-        s.then(diagonal, sin, lower);
-        p.then(index_sqr * diagonal, index_sqr * index_sqr * sin, lower);
+        let (diagonal_p, upper_p) = (index_sqr * diagonal, index_sqr * index_sqr * sin);
+        if first {
+            // The product of one matrix is that matrix.
+            s = Characteristic { a: diagonal, b: sin, c: lower, d: diagonal };
+            p = Characteristic { a: diagonal_p, b: upper_p, c: lower, d: diagonal_p };
+            first = false;
+        } else {
+            s.then(diagonal, sin, lower);
+            p.then(diagonal_p, upper_p, lower);
+        }
         gain_s *= root;
         gain_p *= root * index_sqr;
     }
+    refused |= largest_phase.simd_gt(f64x8::splat(SIN_COS_LIMIT)).to_bitmask();
     // s: D = y₀B + C with y₀ = n₀ cos θ₀ and y_sub = u + i·v. p (y₀ = cos θ₀/n₀, y_sub/n_sub²)
     // multiplied through by n₀·n_sub², which r does not see and which leaves no division:
     // n₀n_sub²·D_p = cos θ₀·(n_sub²a + i·b·y_sub) + n₀·(i·n_sub²c + d·y_sub), and the p flux
@@ -231,6 +243,67 @@ fn amplitudes(
     let (num_re, num_im) = (front[0] - back[0], front[1] - back[1]);
     let r = [num_re.mul_sub(conj_re, num_im * conj_im), num_re.mul_add(conj_im, num_im * conj_re)];
     (r, [flux_factor * conj_re, flux_factor * conj_im])
+}
+
+/// sin x and cos x at every lane for phases 0 ≤ x ≤ [`SIN_COS_LIMIT`] (radians), within a few
+/// units in the last place (tested against the library's). x is reduced by the nearest
+/// multiple q of π/2 (Cody and Waite's two-part π/2 of `thin_film::sin_cos_reduced`, exact for
+/// q < 2²⁰), then the Taylor series of sin and cos on |r| ≤ π/4 to r¹⁷ and r¹⁸ (the next terms
+/// are below 1e-19), each evaluated by Estrin's scheme (powers z, z², z⁴ of z = r² and pairs
+/// of fused multiply-adds), and the quadrant chosen by selects on q mod 4 in floating point.
+/// Why not `wide`'s `sin_cos`, which the lanes took first: it is a Horner evaluation for any
+/// finite x (integer quadrant, range and NaN selects), and a vertex's stack is one chain of
+/// dependent operations, so the shorter chain of Estrin's scheme on the known range is what
+/// sets the speed (issue 41's 2×); no crate offers that kernel.
+#[inline(always)]
+fn sin_cos_lanes(x: f64x8) -> (f64x8, f64x8) {
+    // π/2 = PI_2_HIGH + PI_2_LOW: the high part's 33 significant bits make q·PI_2_HIGH exact.
+    const PI_2_HIGH: f64 = 1.570_796_326_734_125_6;
+    const PI_2_LOW: f64 = 6.077_100_506_506_192e-11;
+    // (−1)^(k+1)/(2k+1)! for k = 1…8 (sin) and (−1)^k/(2k)! for k = 2…9 (cos).
+    const SIN: [f64; 8] = [
+        -1.0 / 6.0,
+        1.0 / 120.0,
+        -1.0 / 5040.0,
+        1.0 / 362_880.0,
+        -1.0 / 39_916_800.0,
+        1.0 / 6_227_020_800.0,
+        -1.0 / 1_307_674_368_000.0,
+        1.0 / 355_687_428_096_000.0,
+    ];
+    const COS: [f64; 8] = [
+        1.0 / 24.0,
+        -1.0 / 720.0,
+        1.0 / 40_320.0,
+        -1.0 / 3_628_800.0,
+        1.0 / 479_001_600.0,
+        -1.0 / 87_178_291_200.0,
+        1.0 / 20_922_789_888_000.0,
+        -1.0 / 6_402_373_705_728_000.0,
+    ];
+    let quadrant = (x * f64x8::splat(std::f64::consts::FRAC_2_PI)).round_ties_even();
+    let r = quadrant.mul_neg_add(f64x8::splat(PI_2_LOW), quadrant.mul_neg_add(f64x8::splat(PI_2_HIGH), x));
+    let z = r * r;
+    let z2 = z * z;
+    let z4 = z2 * z2;
+    // c₀ + c₁z + … + c₇z⁷ = ((c₀ + c₁z) + z²(c₂ + c₃z)) + z⁴((c₄ + c₅z) + z²(c₆ + c₇z)).
+    let estrin = |c: [f64; 8]| {
+        let pair = |i: usize| z.mul_add(f64x8::splat(c[i + 1]), f64x8::splat(c[i]));
+        let low = z2.mul_add(pair(2), pair(0));
+        let high = z2.mul_add(pair(6), pair(4));
+        z4.mul_add(high, low)
+    };
+    // sin r = r + r·z·S(z), cos r = 1 − z/2 + z²·C(z).
+    let sin = (r * z).mul_add(estrin(SIN), r);
+    let cos = z2.mul_add(estrin(COS), z.mul_neg_add(f64x8::HALF, f64x8::ONE));
+    // Quadrant q mod 4: (sin, cos) of x are (s, c), (c, −s), (−s, −c), (−c, s).
+    let quarter = (quadrant * f64x8::splat(0.25)).floor().mul_neg_add(f64x8::splat(4.0), quadrant);
+    let odd = quarter.simd_eq(f64x8::ONE) | quarter.simd_eq(f64x8::splat(3.0));
+    let (sin, cos) = (odd.select(cos, sin), odd.select(sin, cos));
+    let sign = f64x8::splat(-0.0);
+    let negate_sin = quarter.simd_ge(f64x8::splat(2.0)) & sign;
+    let negate_cos = (quarter - f64x8::splat(1.5)).abs().simd_lt(f64x8::ONE) & sign;
+    (sin ^ negate_sin, cos ^ negate_cos)
 }
 
 #[cfg(test)]
@@ -335,7 +408,7 @@ mod tests {
         let (mut worst_trig, mut worst_hyperbolic) = (0.0_f64, 0.0_f64);
         for i in 0..40_000 {
             let phases: Lanes = std::array::from_fn(|l| (i * LANES + l) as f64 * 0.377_964_473);
-            let (sin, cos) = f64x8::from(phases).sin_cos();
+            let (sin, cos) = sin_cos_lanes(f64x8::from(phases));
             for (l, &x) in phases.iter().enumerate() {
                 worst_trig = worst_trig
                     .max((sin.to_array()[l] - x.sin()).abs())
@@ -357,7 +430,8 @@ mod tests {
         assert!(worst_trig < 1e-15, "{worst_trig:e}");
         assert!(worst_hyperbolic < 2e-15, "{worst_hyperbolic:e}");
         let zero = f64x8::ZERO;
-        assert_eq!((zero.sin_cos().0.to_array(), zero.sin_cos().1.to_array()), ([0.0; LANES], [1.0; LANES]));
+        let (sin, cos) = sin_cos_lanes(zero);
+        assert_eq!((sin.to_array(), cos.to_array()), ([0.0; LANES], [1.0; LANES]));
         assert_eq!((zero.sinh().to_array(), zero.cosh().to_array()), ([0.0; LANES], [1.0; LANES]));
     }
 }
