@@ -271,36 +271,53 @@ impl Dielectric {
         live: u32,
         fault: Option<CoatingFault>,
     ) -> (Mueller, Mueller) {
-        let zero = SampledSpectrum::splat(0.0);
-        let (mut reflection, mut transmission) = (
-            Mueller { a: zero, b: zero, w_re: zero, w_im: zero },
-            Mueller { a: zero, b: zero, w_re: zero, w_im: zero },
-        );
         let lossless = self.coating.iter().all(|layer| matches!(layer.index, LayerIndex::Real(_)));
-        let mut scalar = live;
         if lossless && fault != Some(CoatingFault::SpSwapped) {
             let stack =
                 self.stack_lanes(cos_theta_i, n_glass, lambda_nm, fault == Some(CoatingFault::PhaseDropped));
             // JonesDiagonal::new of the amplitudes narrowed to f32, every lane at once.
-            reflection = elements(&stack.r_s, &stack.r_p);
-            transmission = elements(&stack.flux_s, &stack.flux_p);
-            let kept = live & !stack.refused;
-            if kept & ALL_LANES != ALL_LANES {
-                let keep: [bool; N_LAMBDA] = std::array::from_fn(|lane| kept & (1 << lane) != 0);
-                for matrix in [&mut reflection, &mut transmission] {
-                    for component in [&mut matrix.a, &mut matrix.b, &mut matrix.w_re, &mut matrix.w_im] {
-                        component.values =
-                            std::array::from_fn(|l| if keep[l] { component.values[l] } else { 0.0 });
-                    }
-                }
+            let mut matrices = (elements(&stack.r_s, &stack.r_p), elements(&stack.flux_s, &stack.flux_p));
+            if (live & !stack.refused) & ALL_LANES != ALL_LANES {
+                // Out of line, so that the common case keeps its matrices in whole vectors.
+                self.patch_lanes(&mut matrices, live, stack.refused, cos_theta_i, n_glass, lambda_nm, fault);
             }
-            scalar &= stack.refused;
+            matrices
+        } else {
+            let zero = SampledSpectrum::splat(0.0);
+            let mut matrices = (
+                Mueller { a: zero, b: zero, w_re: zero, w_im: zero },
+                Mueller { a: zero, b: zero, w_re: zero, w_im: zero },
+            );
+            self.patch_lanes(&mut matrices, live, ALL_LANES, cos_theta_i, n_glass, lambda_nm, fault);
+            matrices
         }
-        let scalar = scalar & ALL_LANES;
-        for lane in (0..N_LAMBDA).filter(|&lane| scalar != 0 && scalar & (1 << lane) != 0) {
-            let interface = self.coated_interface(cos_theta_i, n_glass[lane], lambda_nm[lane], fault);
+    }
+
+    /// In `matrices` (reflection, transmission): the lanes outside `live` set to zero, and the
+    /// live lanes in `exact` evaluated one by one by [`Dielectric::coated_interface`].
+    #[inline(never)]
+    #[allow(clippy::too_many_arguments)]
+    fn patch_lanes(
+        &self,
+        matrices: &mut (Mueller, Mueller),
+        live: u32,
+        exact: u32,
+        cos_theta_i: f32,
+        n_glass: &[f32; N_LAMBDA],
+        lambda_nm: &[f32; N_LAMBDA],
+        fault: Option<CoatingFault>,
+    ) {
+        for lane in 0..N_LAMBDA {
+            let element = if live & (1 << lane) == 0 {
+                let zero = JonesDiagonal { a: 0.0, b: 0.0, w_re: 0.0, w_im: 0.0 };
+                CoatedInterface { reflection: zero, transmission: zero }
+            } else if exact & (1 << lane) != 0 {
+                self.coated_interface(cos_theta_i, n_glass[lane], lambda_nm[lane], fault)
+            } else {
+                continue;
+            };
             for (matrix, element) in
-                [(&mut reflection, interface.reflection), (&mut transmission, interface.transmission)]
+                [(&mut matrices.0, element.reflection), (&mut matrices.1, element.transmission)]
             {
                 matrix.a.values[lane] = element.a;
                 matrix.b.values[lane] = element.b;
@@ -308,7 +325,6 @@ impl Dielectric {
                 matrix.w_im.values[lane] = element.w_im;
             }
         }
-        (reflection, transmission)
     }
 
     /// The coating (all layers real) at every lane, from the side `cos_theta_i` says; with
