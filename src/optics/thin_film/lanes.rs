@@ -1,25 +1,48 @@
 //! A lossless stack at every wavelength lane of a vertex at once: the same transfer-matrix
-//! method as [`super::thin_film_amplitudes`]'s real path (module documentation there), written
-//! structure-of-arrays over [`LANES`] lanes, each step a loop over the lanes with no branch, so
-//! that it compiles to vector instructions (eight f64 lanes in one AVX-512 register where the
-//! CPU has it, two AVX2 halves otherwise; `.cargo/config.toml` builds for the host). Issue 41's
-//! speed target (a coated interface at most 2× a bare one per lane) is what it is for.
+//! method as [`super::thin_film_amplitudes`]'s real path (module documentation there), each
+//! quantity one [`wide::f64x8`] over the [`LANES`] lanes (one AVX-512 register where the CPU has
+//! it, with fused multiply-adds; two AVX2 halves otherwise; `.cargo/config.toml` builds for the
+//! host). Issue 41's speed target (a coated interface at most 2× a bare one per lane) is what
+//! it is for.
 //!
 //! The lanes share the angle of incidence (every lane of a vertex arrives along one direction);
 //! each has its own wavelength, ambient, substrate and layer indices (a dispersive glass or
-//! layer). A lane the real method cannot take (a layer at or past its critical angle, the
-//! substrate at its, a phase beyond the exact reduction of the shared sin/cos, a vanishing
-//! denominator) is flagged in [`StackLanes::refused`]; the caller evaluates it with
+//! layer). A lane the real method cannot take (a layer or the substrate exactly at its critical
+//! angle, a phase beyond the range of the sin/cos kernel or of cosh, a product out of f64's
+//! comfortable range) is flagged in [`StackLanes::refused`]; the caller evaluates it with
 //! [`super::thin_film_amplitudes`], which takes every case. Layers of zero thickness are skipped,
 //! as both scalar paths skip them.
 //!
+//! # Scaled matrices: no division per layer
+//! A propagating layer's matrix [[cos β, i·sin β/y], [i·y·sin β, cos β]] needs 1/y; a layer past
+//! its critical angle (n cos θ = −i·q, β = −i·t) is [[cosh t, i·sinh t/q], [−i·q·sinh t, cosh t]]
+//! and needs sinh t/q. Each layer's matrix is taken **multiplied by a real scale g** instead:
+//! with x = (n cos θ)² = n² − n₀² sin² θ₀ and root = √|x|, g_s = root gives
+//! [[root·C, i·S], [i·x·S, root·C]] for s and g_p = root·n² gives [[n²·root·C, i·n⁴·S],
+//! [i·x·S, n²·root·C]] for p, (C, S) = (cos β, sin β) or (cosh t, sinh t): one form for both
+//! kinds of layer, and no division. The product of the scaled matrices is G times the true one
+//! (G the product of the scales): r = (y₀B − C)/(y₀B + C) does not see G, and the flux amplitude
+//! below takes it as a factor (conj(D)/|D|² = G·conj(D′)/|D′|² for D′ = G·D). A layer exactly at
+//! its critical angle (root = 0) makes D′ = 0, and the lane is refused (|D′|² is held within
+//! [1e-150, 1e150], so that the few orders of magnitude G spans cannot lose precision).
+//!
+//! # Amplitudes
 //! What it returns is what the renderer needs: r_s and r_p, and the transmitted **flux
 //! amplitudes** τ = √T·e^{i arg t} for s and p (the amplitude whose modulus squared is the
 //! power transmittance, with the phase of t: what a coated dielectric's transmission element
 //! carries). With the module's notation, t = 2y₀·conj(D)/|D|² and T = 4y₀·Re(y_sub)/|D|² for
 //! D = y₀B + C, so τ = t·√(T/|t|²) = 2√(y₀·Re(y_sub))·conj(D)/|D|²: one square root shared by
-//! s and p (y₀,p·Re(y_sub,p) = y₀,s·Re(y_sub,s)/(n₀·n_sub)²) and no division but 1/|D|². With air
-//! on both sides (a free-standing film) τ = t.
+//! s and p (y₀,p·Re(y_sub,p) = y₀,s·Re(y_sub,s)/(n₀·n_sub)²). The p equations are multiplied
+//! through by n₀·n_sub² (no division by the indices), and 1/|D_s|² and 1/|D_p|² come from one
+//! division. With air on both sides (a free-standing film) τ = t.
+//!
+//! # Cost
+//! Per layer and vertex: one square root, one sin/cos ([`sin_cos_lanes`], an Estrin evaluation
+//! on the known range), and where a lane is past the layer's critical angle one e^t (`wide`'s
+//! `exp`, `sinh`); eight multiply-adds per polarisation for the product. Per vertex: two square
+//! roots and one division (the substrate), the division 2π/λ of the caller, and one division
+//! for both 1/|D|². Measured in `benches/optics.rs` (`lanes` group) and
+//! `validation/bench/RESULTS.md`.
 
 use wide::f64x8;
 
