@@ -37,7 +37,7 @@
 //! division. With air on both sides (a free-standing film) τ = t.
 //!
 //! # Cost
-//! Per layer and vertex: one square root, one sin/cos ([`sin_cos_lanes`], an Estrin evaluation
+//! Per layer and vertex: one square root, one sin/cos (`sin_cos_lanes`, an Estrin evaluation
 //! on the known range), and where a lane is past the layer's critical angle one e^t (`wide`'s
 //! `exp`, `sinh`); eight multiply-adds per polarisation for the product. Per vertex: two square
 //! roots and one division (the substrate), the division 2π/λ of the caller, and one division
