@@ -22,6 +22,7 @@
 //! ```
 
 use num_complex::{Complex32, Complex64};
+use wide::f64x8;
 
 use crate::optics::metals::MetalEntry;
 use crate::optics::thin_film::lanes::{lossless_stack_lanes, Lanes, LayerLanes, StackLanes};
@@ -43,6 +44,9 @@ pub struct Dielectric {
     /// a bare interface. At most [`MAX_COATING_LAYERS`].
     pub coating: Vec<CoatingLayer>,
 }
+
+/// Every lane's bit.
+const ALL_LANES: u32 = (1 << N_LAMBDA) - 1;
 
 /// Coatings of up to this many layers are evaluated in a short array.
 const SHORT_COATING: usize = 8;
@@ -155,20 +159,22 @@ pub fn coating_amplitudes(
 }
 
 /// The Mueller matrices of Jones matrices diag(x, y) at every lane ([`JonesDiagonal::new`] lane
-/// by lane), x and y given as real and imaginary parts in f64 and narrowed to f32 first.
+/// by lane), x and y given as real and imaginary parts: the elements formed in f64 (vector
+/// arithmetic, fused multiply-adds) and narrowed to f32 once (`JonesDiagonal::new` narrows the
+/// amplitudes first: the same to f32 rounding).
 #[inline(always)]
 fn elements(x: &[Lanes; 2], y: &[Lanes; 2]) -> Mueller {
-    let narrow_lanes = |parts: &Lanes| SampledSpectrum { values: parts.map(|value| value as f32) };
     let (x_re, x_im, y_re, y_im) =
-        (narrow_lanes(&x[0]), narrow_lanes(&x[1]), narrow_lanes(&y[0]), narrow_lanes(&y[1]));
-    let power_x = x_re * x_re + x_im * x_im;
-    let power_y = y_re * y_re + y_im * y_im;
-    let half = SampledSpectrum::splat(0.5);
+        (f64x8::from(x[0]), f64x8::from(x[1]), f64x8::from(y[0]), f64x8::from(y[1]));
+    let power_x = x_re.mul_add(x_re, x_im * x_im);
+    let power_y = y_re.mul_add(y_re, y_im * y_im);
+    let half = f64x8::HALF;
+    let narrow_lanes = |lanes: f64x8| SampledSpectrum { values: lanes.to_array().map(|value| value as f32) };
     Mueller {
-        a: half * (power_x + power_y),
-        b: half * (power_x - power_y),
-        w_re: x_re * y_re + x_im * y_im,
-        w_im: x_im * y_re - x_re * y_im,
+        a: narrow_lanes(half * (power_x + power_y)),
+        b: narrow_lanes(half * (power_x - power_y)),
+        w_re: narrow_lanes(x_re.mul_add(y_re, x_im * y_im)),
+        w_im: narrow_lanes(x_im.mul_sub(y_re, x_re * y_im)),
     }
 }
 
@@ -265,32 +271,53 @@ impl Dielectric {
         live: u32,
         fault: Option<CoatingFault>,
     ) -> (Mueller, Mueller) {
-        let zero = SampledSpectrum::splat(0.0);
-        let (mut reflection, mut transmission) = (
-            Mueller { a: zero, b: zero, w_re: zero, w_im: zero },
-            Mueller { a: zero, b: zero, w_re: zero, w_im: zero },
-        );
         let lossless = self.coating.iter().all(|layer| matches!(layer.index, LayerIndex::Real(_)));
-        let mut scalar = live;
         if lossless && fault != Some(CoatingFault::SpSwapped) {
             let stack =
                 self.stack_lanes(cos_theta_i, n_glass, lambda_nm, fault == Some(CoatingFault::PhaseDropped));
             // JonesDiagonal::new of the amplitudes narrowed to f32, every lane at once.
-            reflection = elements(&stack.r_s, &stack.r_p);
-            transmission = elements(&stack.flux_s, &stack.flux_p);
-            for lane in (0..N_LAMBDA).filter(|&lane| live & (1 << lane) == 0 || !stack.valid[lane]) {
-                for matrix in [&mut reflection, &mut transmission] {
-                    for component in [&mut matrix.a, &mut matrix.b, &mut matrix.w_re, &mut matrix.w_im] {
-                        component.values[lane] = 0.0;
-                    }
-                }
+            let mut matrices = (elements(&stack.r_s, &stack.r_p), elements(&stack.flux_s, &stack.flux_p));
+            if (live & !stack.refused) & ALL_LANES != ALL_LANES {
+                // Out of line, so that the common case keeps its matrices in whole vectors.
+                self.patch_lanes(&mut matrices, live, stack.refused, cos_theta_i, n_glass, lambda_nm, fault);
             }
-            scalar &= (0..N_LAMBDA).filter(|&lane| !stack.valid[lane]).fold(0, |bits, lane| bits | 1 << lane);
+            matrices
+        } else {
+            let zero = SampledSpectrum::splat(0.0);
+            let mut matrices = (
+                Mueller { a: zero, b: zero, w_re: zero, w_im: zero },
+                Mueller { a: zero, b: zero, w_re: zero, w_im: zero },
+            );
+            self.patch_lanes(&mut matrices, live, ALL_LANES, cos_theta_i, n_glass, lambda_nm, fault);
+            matrices
         }
-        for lane in (0..N_LAMBDA).filter(|&lane| scalar & (1 << lane) != 0) {
-            let interface = self.coated_interface(cos_theta_i, n_glass[lane], lambda_nm[lane], fault);
+    }
+
+    /// In `matrices` (reflection, transmission): the lanes outside `live` set to zero, and the
+    /// live lanes in `exact` evaluated one by one by [`Dielectric::coated_interface`].
+    #[inline(never)]
+    #[allow(clippy::too_many_arguments)]
+    fn patch_lanes(
+        &self,
+        matrices: &mut (Mueller, Mueller),
+        live: u32,
+        exact: u32,
+        cos_theta_i: f32,
+        n_glass: &[f32; N_LAMBDA],
+        lambda_nm: &[f32; N_LAMBDA],
+        fault: Option<CoatingFault>,
+    ) {
+        for lane in 0..N_LAMBDA {
+            let element = if live & (1 << lane) == 0 {
+                let zero = JonesDiagonal { a: 0.0, b: 0.0, w_re: 0.0, w_im: 0.0 };
+                CoatedInterface { reflection: zero, transmission: zero }
+            } else if exact & (1 << lane) != 0 {
+                self.coated_interface(cos_theta_i, n_glass[lane], lambda_nm[lane], fault)
+            } else {
+                continue;
+            };
             for (matrix, element) in
-                [(&mut reflection, interface.reflection), (&mut transmission, interface.transmission)]
+                [(&mut matrices.0, element.reflection), (&mut matrices.1, element.transmission)]
             {
                 matrix.a.values[lane] = element.a;
                 matrix.b.values[lane] = element.b;
@@ -298,7 +325,6 @@ impl Dielectric {
                 matrix.w_im.values[lane] = element.w_im;
             }
         }
-        (reflection, transmission)
     }
 
     /// The coating (all layers real) at every lane, from the side `cos_theta_i` says; with
@@ -312,26 +338,33 @@ impl Dielectric {
     ) -> StackLanes {
         let glass: Lanes = n_glass.map(f64::from);
         let wavenumber: Lanes = lambda_nm.map(|nm| std::f64::consts::TAU / f64::from(nm));
-        let layer_lanes = |layer: &CoatingLayer| LayerLanes {
-            index: match &layer.index {
-                LayerIndex::Real(Ior::Constant(n)) => [f64::from(*n); N_LAMBDA],
-                index => lambda_nm.map(|nm| index.at(nm).re),
-            },
-            thickness_nm: if phase_dropped { 0.0 } else { f64::from(layer.thickness_nm) },
+        let from_inside = cos_theta_i < 0.0;
+        // The layers at these wavelengths, in the order the light crosses them, on the stack: a
+        // short array for the common short coatings, the longest accepted otherwise.
+        let empty = LayerLanes { index: [1.0; N_LAMBDA], thickness_nm: 0.0 };
+        let mut short = [empty; SHORT_COATING];
+        let mut long;
+        let layers: &mut [LayerLanes] = if self.coating.len() <= SHORT_COATING {
+            &mut short
+        } else {
+            long = [empty; MAX_COATING_LAYERS];
+            &mut long
         };
+        let count = self.coating.len().min(layers.len());
+        for (slot, layer) in self.coating[..count].iter().enumerate() {
+            let at = if from_inside { count - 1 - slot } else { slot };
+            layers[at] = LayerLanes {
+                index: match &layer.index {
+                    LayerIndex::Real(Ior::Constant(n)) => [f64::from(*n); N_LAMBDA],
+                    index => lambda_nm.map(|nm| index.at(nm).re),
+                },
+                thickness_nm: if phase_dropped { 0.0 } else { f64::from(layer.thickness_nm) },
+            };
+        }
         let cos = f64::from(cos_theta_i.abs().min(1.0));
         let vacuum = [1.0; N_LAMBDA];
-        if cos_theta_i < 0.0 {
-            lossless_stack_lanes(
-                &glass,
-                self.coating.iter().rev().map(layer_lanes),
-                &vacuum,
-                &wavenumber,
-                cos,
-            )
-        } else {
-            lossless_stack_lanes(&vacuum, self.coating.iter().map(layer_lanes), &glass, &wavenumber, cos)
-        }
+        let (ambient, substrate) = if from_inside { (&glass, &vacuum) } else { (&vacuum, &glass) };
+        lossless_stack_lanes(ambient, &layers[..count], substrate, &wavenumber, cos)
     }
 }
 

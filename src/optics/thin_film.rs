@@ -66,9 +66,10 @@
 //! (`lossless_amplitudes`: real matrices of the form [[a, i·b], [i·c, d]], one reduced sin/cos
 //! per layer) that agrees with the complex one to rounding (tested); the rest take the complex
 //! path. The renderer evaluates a coated dielectric at every wavelength lane of a vertex at once
-//! ([`lanes`]: the same real method, structure-of-arrays and branch-free so that it runs in
-//! vector instructions, with layers past their critical angle kept in the real form through
-//! cosh and sinh).
+//! ([`lanes`]: the same real method in eight-lane vectors, each layer's matrix scaled by its
+//! admittance so that no layer needs a division, layers past their critical angle kept in the
+//! real form through cosh and sinh; tested against this module's evaluation in
+//! `tests/thin_film_lanes.rs`).
 
 use num_complex::Complex64;
 

@@ -1,35 +1,77 @@
 //! A lossless stack at every wavelength lane of a vertex at once: the same transfer-matrix
-//! method as [`super::thin_film_amplitudes`]'s real path (module documentation there), written
-//! structure-of-arrays over [`LANES`] lanes, each step a loop over the lanes with no branch, so
-//! that it compiles to vector instructions (eight f64 lanes in one AVX-512 register where the
-//! CPU has it, two AVX2 halves otherwise; `.cargo/config.toml` builds for the host). Issue 41's
-//! speed target (a coated interface at most 2× a bare one per lane) is what it is for.
+//! method as [`super::thin_film_amplitudes`]'s real path (module documentation there), each
+//! quantity one [`wide::f64x8`] over the [`LANES`] lanes (one AVX-512 register where the CPU has
+//! it, with fused multiply-adds; two AVX2 halves otherwise; `.cargo/config.toml` builds for the
+//! host). Issue 41's speed target (a coated interface at most 2× a bare one per lane) is what
+//! it is for.
 //!
 //! The lanes share the angle of incidence (every lane of a vertex arrives along one direction);
 //! each has its own wavelength, ambient, substrate and layer indices (a dispersive glass or
-//! layer). A lane the real method cannot take (a layer at or past its critical angle, the
-//! substrate at its, a phase beyond the exact reduction of the shared sin/cos, a vanishing
-//! denominator) is flagged in [`StackLanes::valid`]; the caller evaluates it with
+//! layer). A lane the real method cannot take (a layer or the substrate exactly at its critical
+//! angle, a phase beyond the range of the sin/cos kernel or of cosh, a product out of f64's
+//! comfortable range) is flagged in [`StackLanes::refused`]; the caller evaluates it with
 //! [`super::thin_film_amplitudes`], which takes every case. Layers of zero thickness are skipped,
 //! as both scalar paths skip them.
 //!
+//! # Scaled matrices: no division per layer
+//! A propagating layer's matrix [[cos β, i·sin β/y], [i·y·sin β, cos β]] needs 1/y; a layer past
+//! its critical angle (n cos θ = −i·q, β = −i·t) is [[cosh t, i·sinh t/q], [−i·q·sinh t, cosh t]]
+//! and needs sinh t/q. Each layer's matrix is taken **multiplied by a real scale g** instead:
+//! with x = (n cos θ)² = n² − n₀² sin² θ₀ and root = √|x|, g_s = root gives
+//! [[root·C, i·S], [i·x·S, root·C]] for s and g_p = root·n² gives [[n²·root·C, i·n⁴·S],
+//! [i·x·S, n²·root·C]] for p, (C, S) = (cos β, sin β) or (cosh t, sinh t): one form for both
+//! kinds of layer, and no division. The product of the scaled matrices is G times the true one
+//! (G the product of the scales): r = (y₀B − C)/(y₀B + C) does not see G, and the flux amplitude
+//! below takes it as a factor (conj(D)/|D|² = G·conj(D′)/|D′|² for D′ = G·D). A layer exactly at
+//! its critical angle (root = 0) makes D′ = 0, and the lane is refused (|D′|² is held within
+//! [1e-150, 1e150], so that the few orders of magnitude G spans cannot lose precision).
+//!
+//! # Amplitudes
 //! What it returns is what the renderer needs: r_s and r_p, and the transmitted **flux
 //! amplitudes** τ = √T·e^{i arg t} for s and p (the amplitude whose modulus squared is the
 //! power transmittance, with the phase of t: what a coated dielectric's transmission element
 //! carries). With the module's notation, t = 2y₀·conj(D)/|D|² and T = 4y₀·Re(y_sub)/|D|² for
 //! D = y₀B + C, so τ = t·√(T/|t|²) = 2√(y₀·Re(y_sub))·conj(D)/|D|²: one square root shared by
-//! s and p (y₀,p·Re(y_sub,p) = y₀,s·Re(y_sub,s)/(n₀·n_sub)²) and no division but 1/|D|². With air
-//! on both sides (a free-standing film) τ = t.
+//! s and p (y₀,p·Re(y_sub,p) = y₀,s·Re(y_sub,s)/(n₀·n_sub)²). The p equations are multiplied
+//! through by n₀·n_sub² (no division by the indices), and 1/|D_s|² and 1/|D_p|² come from one
+//! division. With air on both sides (a free-standing film) τ = t.
+//!
+//! # Cost
+//! Per layer and vertex: one square root, one sin/cos (`sin_cos_lanes`, an Estrin evaluation
+//! on the known range), and where a lane is past the layer's critical angle one e^t (`wide`'s
+//! `exp`, `sinh`); eight multiply-adds per polarisation for the product. Per vertex: two square
+//! roots and one division (the substrate), the division 2π/λ of the caller, and one division
+//! for both 1/|D|². Measured in `benches/optics.rs` (`lanes` group) and
+//! `validation/bench/RESULTS.md`.
+
+use wide::f64x8;
 
 use crate::spectrum::N_LAMBDA;
-
-use super::sin_cos_reduced;
 
 /// Lanes evaluated together: the renderer's wavelength lanes.
 pub const LANES: usize = N_LAMBDA;
 
+// One `f64x8` holds the lanes.
+const _: () = assert!(LANES == 8);
+
 /// One f64 per lane.
 pub type Lanes = [f64; LANES];
+
+/// Phases (radians) up to which the vector sin and cos are taken as exact: `wide`'s reduction
+/// (Cody and Waite with a three-part π/2) and its polynomials agree with the library within
+/// 1e-15 well beyond this (tested up to 1.2·10⁵; 1e5 rad is a 100 µm layer of n ≈ 57 at
+/// 360 nm). A lane beyond it is refused.
+const SIN_COS_LIMIT: f64 = 1e5;
+
+/// Past-critical phases (t = k·d·q) up to which cosh t and sinh t are finite and exact (cosh
+/// overflows f64 past t ≈ 710); a lane beyond it is refused.
+const HYPERBOLIC_LIMIT: f64 = 700.0;
+
+/// Below this |D|² (of the scaled product, module documentation), and above its inverse, a lane
+/// is refused: the scaled entries could have lost terms to underflow (|D| ≥ 1e-75 leaves more
+/// than 200 orders of magnitude above f64's smallest normal), and the product of the s and p
+/// values, whose inverse is taken once for both, stays within f64's range.
+const SMALLEST_NORM_SQR: f64 = 1e-150;
 
 /// One layer of a lossless stack at every lane.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -51,21 +93,35 @@ pub struct StackLanes {
     pub flux_s: [Lanes; 2],
     /// Re and Im of the p flux amplitude √T_p·e^{i arg t_p}.
     pub flux_p: [Lanes; 2],
-    /// False where the real method does not hold and the values above are meaningless.
-    pub valid: [bool; LANES],
+    /// Bit l set where lane l is refused: the real method does not hold there and the values
+    /// above are meaningless.
+    pub refused: u32,
 }
 
-/// A real 2 × 2 product [[a, i·b], [i·c, d]] per lane (module documentation of `thin_film`).
+/// A real 2 × 2 product [[a, i·b], [i·c, d]] per lane (module documentation of `thin_film`),
+/// scaled (module documentation).
 #[derive(Clone, Copy)]
 struct Characteristic {
-    a: Lanes,
-    b: Lanes,
-    c: Lanes,
-    d: Lanes,
+    a: f64x8,
+    b: f64x8,
+    c: f64x8,
+    d: f64x8,
 }
 
 impl Characteristic {
-    const IDENTITY: Self = Self { a: [1.0; LANES], b: [0.0; LANES], c: [0.0; LANES], d: [1.0; LANES] };
+    const IDENTITY: Self = Self { a: f64x8::ONE, b: f64x8::ZERO, c: f64x8::ZERO, d: f64x8::ONE };
+
+    /// This product times a layer's [[diagonal, i·b], [i·c, diagonal]] (real a, b, c, d:
+    /// products of such matrices keep the form, `thin_film`'s real path), in fused
+    /// multiply-adds where the CPU has them.
+    #[inline(always)]
+    fn then(&mut self, diagonal: f64x8, b: f64x8, c: f64x8) {
+        let Self { a: a0, b: b0, c: c0, d: d0 } = *self;
+        self.a = a0.mul_sub(diagonal, b0 * c);
+        self.b = a0.mul_add(b, b0 * diagonal);
+        self.c = c0.mul_add(diagonal, d0 * c);
+        self.d = d0.mul_sub(diagonal, c0 * b);
+    }
 }
 
 /// The stack of `layers` (in the order the light crosses them) between an ambient of index
@@ -75,180 +131,203 @@ impl Characteristic {
 #[inline]
 pub fn lossless_stack_lanes(
     n_ambient: &Lanes,
-    layers: impl IntoIterator<Item = LayerLanes>,
+    layers: &[LayerLanes],
     n_substrate: &Lanes,
     wavenumber_per_nm: &Lanes,
     cos_theta_i: f64,
 ) -> StackLanes {
     let cos_i = cos_theta_i.clamp(0.0, 1.0);
     let sin_i_sqr = (1.0 - cos_i * cos_i).max(0.0);
-    let mut valid = [true; LANES];
+    // Bit l set: lane l refused.
+    let mut refused = 0u32;
+    let n0 = f64x8::from(*n_ambient);
+    let wavenumber = f64x8::from(*wavenumber_per_nm);
     // n₀² sin² θ₀ per lane, conserved across every interface.
-    let invariant_sqr: Lanes = std::array::from_fn(|l| n_ambient[l] * n_ambient[l] * sin_i_sqr);
+    let invariant_sqr = n0 * n0 * f64x8::splat(sin_i_sqr);
+    // The ambient's and the substrate's part first (it does not depend on the layers, and so
+    // overlaps with them). The substrate's n cos θ = u + i·v: real (u > 0) where the wave
+    // propagates, −i·q (evanescent, total internal reflection behind the stack) where it does
+    // not; exactly at the critical angle the lane is refused.
+    let ns = f64x8::from(*n_substrate);
+    let x = ns * ns - invariant_sqr;
+    let root = x.abs().sqrt();
+    let propagates = x.simd_gt(f64x8::ZERO);
+    let (u, v) = (propagates.select(root, f64x8::ZERO), propagates.select(f64x8::ZERO, -root));
+    refused |= x.simd_eq(f64x8::ZERO).to_bitmask();
+    let cos_i = f64x8::splat(cos_i);
+    let y0_s = n0 * cos_i;
+    // 2√(y₀·Re(y_sub)) of s (for p see below; times the gains after the layers).
+    let flux_root = f64x8::splat(2.0) * (y0_s * u).sqrt();
     let (mut s, mut p) = (Characteristic::IDENTITY, Characteristic::IDENTITY);
-    for layer in layers.into_iter().filter(|layer| layer.thickness_nm > 0.0) {
-        let thickness_nm = layer.thickness_nm;
-        // Per lane: the layer's matrix [[cos, i·b], [i·c, cos]] for s and p (see `step`).
-        let mut cos = [0.0; LANES];
-        let (mut b_s, mut c_s, mut b_p, mut c_p) = ([0.0; LANES], [0.0; LANES], [0.0; LANES], [0.0; LANES]);
-        let mut propagating = [false; LANES];
-        let mut root = [0.0; LANES];
-        for l in 0..LANES {
-            let n_cos_sqr = layer.index[l] * layer.index[l] - invariant_sqr[l];
-            propagating[l] = n_cos_sqr > 0.0;
-            root[l] = n_cos_sqr.abs().sqrt();
-        }
-        if propagating.iter().any(|&p| p) {
-            // n cos θ = root real: β = k·d·root, the matrix [[cos β, i·sin β/y], [i·y·sin β, cos β]]
-            // with y_s = root, y_p = root/n².
-            for l in 0..LANES {
-                let (n_cos, index_sqr) = (root[l], layer.index[l] * layer.index[l]);
-                let (sin, cos_beta, exact) = sin_cos_reduced(wavenumber_per_nm[l] * thickness_nm * n_cos);
-                valid[l] &= exact || !propagating[l];
-                // Clamped so that a lane of the other kind stays finite (it is overwritten).
-                let y_s = n_cos.max(f64::MIN_POSITIVE);
-                let sin_over_y_s = sin / y_s;
-                cos[l] = cos_beta;
-                (b_s[l], c_s[l]) = (sin_over_y_s, sin * y_s);
-                // y_p = y_s / n².
-                (b_p[l], c_p[l]) = (sin_over_y_s * index_sqr, sin * y_s / index_sqr);
-            }
-        }
-        if propagating.iter().any(|&p| !p) {
-            // Past (or at) the layer's critical angle: n cos θ = −i·q with q = root, β = −i·t,
-            // t = k·d·q; cos β = cosh t, sin β = −i·sinh t, so that i·sin β/y_s = i·sinh t/q and
-            // i·y_s·sin β = −i·q·sinh t (y_p = −i·q/n² likewise): the same real form. sinh t/q
-            // = k·d·(sinh t/t), finite at q = 0 (exactly at the critical angle: β/y = k·d).
-            for l in 0..LANES {
-                let (q, index_sqr) = (root[l], layer.index[l] * layer.index[l]);
-                let kd = wavenumber_per_nm[l] * thickness_nm;
-                let (cosh, sinh, sinh_over_t, exact) = cosh_sinh(kd * q);
-                if !propagating[l] {
-                    valid[l] &= exact;
-                    cos[l] = cosh;
-                    (b_s[l], c_s[l]) = (kd * sinh_over_t, -q * sinh);
-                    (b_p[l], c_p[l]) = (kd * sinh_over_t * index_sqr, -q / index_sqr * sinh);
-                }
-            }
-        }
-        step(&mut s, &cos, &b_s, &c_s);
-        step(&mut p, &cos, &b_p, &c_p);
-    }
-    let mut out = StackLanes {
-        r_s: [[0.0; LANES]; 2],
-        r_p: [[0.0; LANES]; 2],
-        flux_s: [[0.0; LANES]; 2],
-        flux_p: [[0.0; LANES]; 2],
-        valid,
-    };
-    for l in 0..LANES {
-        let (n0, ns) = (n_ambient[l], n_substrate[l]);
-        // The substrate's n cos θ = u + i·v: real (u > 0) where the wave propagates, −i·q
-        // (evanescent, total internal reflection behind the stack) where it does not; exactly
-        // at the critical angle the lane is left to the complex path.
-        let x = ns * ns - invariant_sqr[l];
+    // The products of the layers' scale factors g (module documentation), for s and p.
+    let (mut gain_s, mut gain_p) = (f64x8::ONE, f64x8::ONE);
+    // The largest phase of any layer (lanes beyond the sin/cos range are refused at the end).
+    let mut largest_phase = f64x8::ZERO;
+    let mut first = true;
+    for layer in layers.iter().filter(|layer| layer.thickness_nm > 0.0) {
+        let index = f64x8::from(layer.index);
+        let index_sqr = index * index;
+        // x = (n cos θ)², root = √|x|: n cos θ = root where the wave propagates (x > 0), −i·root
+        // past the layer's critical angle.
+        let x = index_sqr - invariant_sqr;
         let root = x.abs().sqrt();
-        let (u, v) = if x > 0.0 { (root, 0.0) } else { (0.0, -root) };
-        out.valid[l] &= x != 0.0;
-        let (inverse_n0, inverse_ns) = (1.0 / n0, 1.0 / ns);
-        let inverse_index_sqr = inverse_ns * inverse_ns;
-        let y0_s = n0 * cos_i;
-        let y0_p = cos_i * inverse_n0;
-        // 2√(y₀·Re(y_sub)) for s, and for p the same over n₀·n_sub.
-        let flux_factor_s = 2.0 * (y0_s * u).sqrt();
-        let flux_factor_p = flux_factor_s * inverse_n0 * inverse_ns;
-        let polarisations = [
-            (&s, y0_s, u, v, flux_factor_s, 0),
-            (&p, y0_p, u * inverse_index_sqr, v * inverse_index_sqr, flux_factor_p, 1),
-        ];
-        for (m, y0, u, v, flux_factor, which) in polarisations {
-            let (a, b, c, d) = (m.a[l], m.b[l], m.c[l], m.d[l]);
-            // y₀B = y₀(a − b·v) + i·y₀·b·u, C = d·u + i(c + d·v), D = y₀B + C.
-            let (front_re, front_im) = (y0 * (a - b * v), y0 * b * u);
-            let (back_re, back_im) = (d * u, c + d * v);
-            let (den_re, den_im) = (front_re + back_re, front_im + back_im);
-            let norm_sqr = den_re * den_re + den_im * den_im;
-            out.valid[l] &= norm_sqr > 0.0 && norm_sqr.is_finite();
-            let inverse = 1.0 / norm_sqr.max(f64::MIN_POSITIVE);
-            // conj(D)/|D|².
-            let (conj_re, conj_im) = (den_re * inverse, -den_im * inverse);
-            let (num_re, num_im) = (front_re - back_re, front_im - back_im);
-            let r = [num_re * conj_re - num_im * conj_im, num_re * conj_im + num_im * conj_re];
-            let flux = [flux_factor * conj_re, flux_factor * conj_im];
-            let (r_out, flux_out) =
-                if which == 0 { (&mut out.r_s, &mut out.flux_s) } else { (&mut out.r_p, &mut out.flux_p) };
-            r_out[0][l] = r[0];
-            r_out[1][l] = r[1];
-            flux_out[0][l] = flux[0];
-            flux_out[1][l] = flux[1];
+        let phase = wavenumber * f64x8::splat(layer.thickness_nm) * root;
+        largest_phase = largest_phase.max(phase);
+        let (mut sin, mut cos) = sin_cos_lanes(phase);
+        let evanescent = x.simd_le(f64x8::ZERO);
+        if evanescent.any() {
+            // β = −i·t, t = k·d·q: cos β = cosh t, sin β = −i·sinh t; the scaled matrix below is
+            // then the same expression with (cosh t, sinh t) for (cos β, sin β). cosh t from an
+            // e^t written as `sinh` writes it (the compiler shares the polynomial, not the
+            // division: a kernel sharing both measured no faster).
+            let e = phase.abs().exp();
+            sin = evanescent.select(phase.sinh(), sin);
+            cos = evanescent.select((e + f64x8::ONE / e) * f64x8::HALF, cos);
+            refused |= (evanescent & phase.simd_gt(f64x8::splat(HYPERBOLIC_LIMIT))).to_bitmask();
         }
+        // s: root·[[cos β, i sin β/y], [i y sin β, cos β]] = [[root·cos, i·sin], [i·x·sin,
+        // root·cos]]; p (y_p = y_s/n²) scaled by root·n²: [[n²·root·cos, i·n⁴·sin], [i·x·sin,
+        // n²·root·cos]].
+        let diagonal = root * cos;
+        let lower = x * sin;
+        let (diagonal_p, upper_p) = (index_sqr * diagonal, index_sqr * index_sqr * sin);
+        if first {
+            // The product of one matrix is that matrix.
+            s = Characteristic { a: diagonal, b: sin, c: lower, d: diagonal };
+            p = Characteristic { a: diagonal_p, b: upper_p, c: lower, d: diagonal_p };
+            first = false;
+        } else {
+            s.then(diagonal, sin, lower);
+            p.then(diagonal_p, upper_p, lower);
+        }
+        gain_s *= root;
+        gain_p *= root * index_sqr;
     }
-    out
+    refused |= largest_phase.simd_gt(f64x8::splat(SIN_COS_LIMIT)).to_bitmask();
+    // s: D = y₀B + C with y₀ = n₀ cos θ₀ and y_sub = u + i·v. p (y₀ = cos θ₀/n₀, y_sub/n_sub²)
+    // multiplied through by n₀·n_sub², which r does not see and which leaves no division:
+    // n₀n_sub²·D_p = cos θ₀·(n_sub²a + i·b·y_sub) + n₀·(i·n_sub²c + d·y_sub), and the p flux
+    // amplitude 2√(y₀,p·Re(y_sub,p))·conj(D_p)/|D_p|² = 2√(y₀·u)·n_sub·conj(D̃)/|D̃|² for
+    // D̃ = n₀n_sub²·D_p (y₀,p·Re(y_sub,p) = y₀,s·u/(n₀·n_sub)²).
+    let ns_sqr = ns * ns;
+    let p = Characteristic { a: p.a * ns_sqr, c: p.c * ns_sqr, ..p };
+    let (front_s, back_s) = halves(&s, y0_s, f64x8::ONE, u, v);
+    let (front_p, back_p) = halves(&p, cos_i, n0, u, v);
+    let (den_s, den_p) = (add(front_s, back_s), add(front_p, back_p));
+    let norm_s = den_s[0].mul_add(den_s[0], den_s[1] * den_s[1]);
+    let norm_p = den_p[0].mul_add(den_p[0], den_p[1] * den_p[1]);
+    // 1/|D_s|² and 1/|D̃|² from one division: both in [1e-150, 1e150] (else refused), so that
+    // their product neither overflows nor underflows.
+    let inverse = f64x8::ONE / (norm_s * norm_p);
+    let (inverse_s, inverse_p) = (norm_p * inverse, norm_s * inverse);
+    let (r_s, flux_s) = amplitudes(front_s, back_s, den_s, inverse_s, flux_root * gain_s);
+    let (r_p, flux_p) = amplitudes(front_p, back_p, den_p, inverse_p, flux_root * gain_p * ns);
+    let (low, high) = (f64x8::splat(SMALLEST_NORM_SQR), f64x8::splat(1.0 / SMALLEST_NORM_SQR));
+    // NaN fails the comparisons; a flux that is not finite (a gain that overflowed) is refused.
+    let accepted = norm_s.simd_ge(low)
+        & norm_s.simd_le(high)
+        & norm_p.simd_ge(low)
+        & norm_p.simd_le(high)
+        & flux_s[0].is_finite()
+        & flux_s[1].is_finite()
+        & flux_p[0].is_finite()
+        & flux_p[1].is_finite();
+    refused |= !accepted.to_bitmask() & ((1 << LANES) - 1);
+    let parts = |[re, im]: [f64x8; 2]| [re.to_array(), im.to_array()];
+    StackLanes { r_s: parts(r_s), r_p: parts(r_p), flux_s: parts(flux_s), flux_p: parts(flux_p), refused }
 }
 
-/// `product` times a layer's [[cos, i·b], [i·c, cos]] at every lane (real a, b, c, d: products
-/// of such matrices keep the form, `thin_film`'s real path).
+/// The two halves of D = front + back (each as Re, Im) of the scaled product `m`:
+/// front = w_front·B = w_front·((a − b·v) + i·b·u), back = w_back·C = w_back·(d·u + i(c + d·v))
+/// for a substrate admittance u + i·v (v = 0 or u = 0).
 #[inline(always)]
-fn step(product: &mut Characteristic, cos: &Lanes, b: &Lanes, c: &Lanes) {
-    for l in 0..LANES {
-        let (a0, b0, c0, d0) = (product.a[l], product.b[l], product.c[l], product.d[l]);
-        product.a[l] = a0 * cos[l] - b0 * c[l];
-        product.b[l] = a0 * b[l] + b0 * cos[l];
-        product.c[l] = c0 * cos[l] + d0 * c[l];
-        product.d[l] = d0 * cos[l] - c0 * b[l];
-    }
+fn halves(m: &Characteristic, w_front: f64x8, w_back: f64x8, u: f64x8, v: f64x8) -> ([f64x8; 2], [f64x8; 2]) {
+    let front = [w_front * m.b.mul_neg_add(v, m.a), w_front * m.b * u];
+    let back = [w_back * m.d * u, w_back * m.d.mul_add(v, m.c)];
+    (front, back)
 }
 
-/// cosh t, sinh t and sinh t / t for t ≥ 0, and whether they are exact (within a few units in
-/// the last place; false past t = 700, where cosh t nears f64's range, and for NaN). e^t by
-/// t = m·ln 2 + r, |r| ≤ ln 2/2 (Cody and Waite's two-part ln 2), the Taylor series of e^r to
-/// r¹³ (the next term < 1e-17 of it) and 2^m built in the exponent bits; below t = 1/2 sinh by
-/// its own series to t¹³ (the next term < 1e-18 of it; e^t − e^{−t} would cancel there).
+/// The complex sum of two (Re, Im) pairs.
 #[inline(always)]
-fn cosh_sinh(t: f64) -> (f64, f64, f64, bool) {
-    const LN_2_HIGH: f64 = 0.693_147_180_369_123_8;
-    const LN_2_LOW: f64 = 1.908_214_929_270_587_7e-10;
-    let exact = t <= 700.0;
-    let t_in_range = if exact { t } else { 0.0 };
-    let m = (t_in_range * std::f64::consts::LOG2_E).round_ties_even();
-    let r = (t_in_range - m * LN_2_HIGH) - m * LN_2_LOW;
-    // e^r = 1 + r(1 + r/2(1 + r/3(… (1 + r/13)))), Horner with the reciprocals folded.
-    const INVERSE: [f64; 13] = [
-        1.0,
-        1.0 / 2.0,
-        1.0 / 3.0,
-        1.0 / 4.0,
-        1.0 / 5.0,
-        1.0 / 6.0,
-        1.0 / 7.0,
-        1.0 / 8.0,
-        1.0 / 9.0,
-        1.0 / 10.0,
-        1.0 / 11.0,
-        1.0 / 12.0,
-        1.0 / 13.0,
+fn add(x: [f64x8; 2], y: [f64x8; 2]) -> [f64x8; 2] {
+    [x[0] + y[0], x[1] + y[1]]
+}
+
+/// r = (front − back)·conj(D)/|D|² and the flux amplitude factor·conj(D)/|D|², each as
+/// (Re, Im), given D = front + back and `inverse` = 1/|D|².
+#[inline(always)]
+fn amplitudes(
+    front: [f64x8; 2],
+    back: [f64x8; 2],
+    den: [f64x8; 2],
+    inverse: f64x8,
+    flux_factor: f64x8,
+) -> ([f64x8; 2], [f64x8; 2]) {
+    let (conj_re, conj_im) = (den[0] * inverse, -den[1] * inverse);
+    let (num_re, num_im) = (front[0] - back[0], front[1] - back[1]);
+    let r = [num_re.mul_sub(conj_re, num_im * conj_im), num_re.mul_add(conj_im, num_im * conj_re)];
+    (r, [flux_factor * conj_re, flux_factor * conj_im])
+}
+
+/// sin x and cos x at every lane for phases 0 ≤ x ≤ [`SIN_COS_LIMIT`] (radians), within a few
+/// units in the last place (tested against the library's). x is reduced by the nearest
+/// multiple q of π/2 (Cody and Waite's two-part π/2 of `thin_film::sin_cos_reduced`, exact for
+/// q < 2²⁰), then the Taylor series of sin and cos on |r| ≤ π/4 to r¹⁷ and r¹⁸ (the next terms
+/// are below 1e-19), each evaluated by Estrin's scheme (powers z, z², z⁴ of z = r² and pairs
+/// of fused multiply-adds), and the quadrant chosen by selects on q mod 4 in floating point.
+/// Why not `wide`'s `sin_cos`, which the lanes took first: it is a Horner evaluation for any
+/// finite x (integer quadrant, range and NaN selects), and a vertex's stack is one chain of
+/// dependent operations, so the shorter chain of Estrin's scheme on the known range is what
+/// sets the speed (issue 41's 2×); no crate offers that kernel.
+#[inline(always)]
+fn sin_cos_lanes(x: f64x8) -> (f64x8, f64x8) {
+    // π/2 = PI_2_HIGH + PI_2_LOW: the high part's 33 significant bits make q·PI_2_HIGH exact.
+    const PI_2_HIGH: f64 = 1.570_796_326_734_125_6;
+    const PI_2_LOW: f64 = 6.077_100_506_506_192e-11;
+    // (−1)^(k+1)/(2k+1)! for k = 1…8 (sin) and (−1)^k/(2k)! for k = 2…9 (cos).
+    const SIN: [f64; 8] = [
+        -1.0 / 6.0,
+        1.0 / 120.0,
+        -1.0 / 5040.0,
+        1.0 / 362_880.0,
+        -1.0 / 39_916_800.0,
+        1.0 / 6_227_020_800.0,
+        -1.0 / 1_307_674_368_000.0,
+        1.0 / 355_687_428_096_000.0,
     ];
-    let e_r = INVERSE.iter().rev().fold(1.0, |acc, inverse| 1.0 + r * inverse * acc);
-    // 2^m for 0 ≤ m ≤ 1010: m + 1023 in the low bits of 2⁵² + m + 1023, shifted into the
-    // exponent (a bit cast and a shift: no float-to-integer conversion, which would not vectorise).
-    let two_to_m = f64::from_bits(((m + 1023.0 + 4_503_599_627_370_496.0).to_bits()) << 52);
-    let e = e_r * two_to_m;
-    let inverse = 1.0 / e;
-    let cosh = 0.5 * (e + inverse);
-    let z = t_in_range * t_in_range;
-    // sinh t / t = 1 + z/3!(1 + z/(4·5)(1 + z/(6·7)(…))), z = t².
-    let series_over_t = 1.0
-        + z * (1.0 / 6.0)
-            * (1.0
-                + z * (1.0 / 20.0)
-                    * (1.0
-                        + z * (1.0 / 42.0)
-                            * (1.0
-                                + z * (1.0 / 72.0) * (1.0 + z * (1.0 / 110.0) * (1.0 + z * (1.0 / 156.0))))));
-    let small = t_in_range < 0.5;
-    let sinh = if small { t_in_range * series_over_t } else { 0.5 * (e - inverse) };
-    let sinh_over_t = if small { series_over_t } else { sinh / t_in_range.max(0.5) };
-    (cosh, sinh, sinh_over_t, exact)
+    const COS: [f64; 8] = [
+        1.0 / 24.0,
+        -1.0 / 720.0,
+        1.0 / 40_320.0,
+        -1.0 / 3_628_800.0,
+        1.0 / 479_001_600.0,
+        -1.0 / 87_178_291_200.0,
+        1.0 / 20_922_789_888_000.0,
+        -1.0 / 6_402_373_705_728_000.0,
+    ];
+    let quadrant = (x * f64x8::splat(std::f64::consts::FRAC_2_PI)).round_ties_even();
+    let r = quadrant.mul_neg_add(f64x8::splat(PI_2_LOW), quadrant.mul_neg_add(f64x8::splat(PI_2_HIGH), x));
+    let z = r * r;
+    let z2 = z * z;
+    let z4 = z2 * z2;
+    // c₀ + c₁z + … + c₇z⁷ = ((c₀ + c₁z) + z²(c₂ + c₃z)) + z⁴((c₄ + c₅z) + z²(c₆ + c₇z)).
+    let estrin = |c: [f64; 8]| {
+        let pair = |i: usize| z.mul_add(f64x8::splat(c[i + 1]), f64x8::splat(c[i]));
+        let low = z2.mul_add(pair(2), pair(0));
+        let high = z2.mul_add(pair(6), pair(4));
+        z4.mul_add(high, low)
+    };
+    // sin r = r + r·z·S(z), cos r = 1 − z/2 + z²·C(z).
+    let sin = (r * z).mul_add(estrin(SIN), r);
+    let cos = z2.mul_add(estrin(COS), z.mul_neg_add(f64x8::HALF, f64x8::ONE));
+    // Quadrant q mod 4: (sin, cos) of x are (s, c), (c, −s), (−s, −c), (−c, s).
+    let quarter = (quadrant * f64x8::splat(0.25)).floor().mul_neg_add(f64x8::splat(4.0), quadrant);
+    let odd = quarter.simd_eq(f64x8::ONE) | quarter.simd_eq(f64x8::splat(3.0));
+    let (sin, cos) = (odd.select(cos, sin), odd.select(sin, cos));
+    let sign = f64x8::splat(-0.0);
+    let negate_sin = quarter.simd_ge(f64x8::splat(2.0)) & sign;
+    let negate_cos = (quarter - f64x8::splat(1.5)).abs().simd_lt(f64x8::ONE) & sign;
+    (sin ^ negate_sin, cos ^ negate_cos)
 }
 
 #[cfg(test)]
@@ -293,15 +372,14 @@ mod tests {
             let lambda: Lanes = std::array::from_fn(|_| 360.0 + 470.0 * uniform());
             let wavenumber = lambda.map(|nm| std::f64::consts::TAU / nm);
             let cos_i = uniform();
-            let lanes =
-                lossless_stack_lanes(&n_ambient, layers.iter().copied(), &n_substrate, &wavenumber, cos_i);
+            let lanes = lossless_stack_lanes(&n_ambient, &layers, &n_substrate, &wavenumber, cos_i);
             for l in 0..LANES {
                 let scalar_layers: Vec<Layer> = layers
                     .iter()
                     .map(|layer| Layer::dielectric(layer.index[l], layer.thickness_nm))
                     .collect();
                 let invariant = n_ambient[l] * n_ambient[l] * (1.0 - cos_i * cos_i);
-                assert!(lanes.valid[l], "lane {l} refused: {scalar_layers:?}, cos {cos_i}");
+                assert!(lanes.refused & (1 << l) == 0, "lane {l} refused: {scalar_layers:?}, cos {cos_i}");
                 past_critical +=
                     usize::from(scalar_layers.iter().any(|layer| {
                         layer.thickness_nm > 0.0 && layer.index.re * layer.index.re < invariant
@@ -343,27 +421,41 @@ mod tests {
         );
     }
 
-    /// cosh, sinh and sinh t/t against the library's within 4e-16 relative (a few ulps: the
-    /// reduction and the series add a few roundings), from 0 (exactly 1, 0, 1) to 700.
+    /// The vector functions the lanes rely on (`wide`'s, after Agner Fog's vector class
+    /// library) against the library's scalar ones over the ranges the lanes accept: sin and cos
+    /// within 1e-15 absolute (values ≤ 1; the reduction and the polynomial add a few roundings)
+    /// from 0 to beyond [`SIN_COS_LIMIT`]; cosh and sinh within 2e-15 relative (a few ulps:
+    /// the reduction, the series and e^t ± e^{−t}) from 1e-9 to [`HYPERBOLIC_LIMIT`]; at 0
+    /// exactly (1, 0) and (0, 1). The worst measured is printed.
     #[test]
-    fn hyperbolic_functions_are_the_librarys() {
-        assert_eq!(cosh_sinh(0.0), (1.0, 0.0, 1.0, true));
-        let mut worst = 0.0_f64;
-        for i in 1..200_000 {
-            let t = (i as f64 * 1.3e-5).powi(3) * 0.3;
-            let (cosh, sinh, sinh_over_t, exact) = cosh_sinh(t);
-            assert!(exact == (t <= 700.0), "{t}");
-            if !exact {
-                continue;
+    fn vector_functions_are_the_librarys() {
+        let (mut worst_trig, mut worst_hyperbolic) = (0.0_f64, 0.0_f64);
+        for i in 0..40_000 {
+            let phases: Lanes = std::array::from_fn(|l| (i * LANES + l) as f64 * 0.377_964_473);
+            let (sin, cos) = sin_cos_lanes(f64x8::from(phases));
+            for (l, &x) in phases.iter().enumerate() {
+                worst_trig = worst_trig
+                    .max((sin.to_array()[l] - x.sin()).abs())
+                    .max((cos.to_array()[l] - x.cos()).abs());
             }
-            let relative = |a: f64, b: f64| ((a - b) / b).abs();
-            worst = worst
-                .max(relative(cosh, t.cosh()))
-                .max(relative(sinh, t.sinh()))
-                .max(relative(sinh_over_t, t.sinh() / t));
+            let t: Lanes = std::array::from_fn(|l| {
+                1e-9 * (HYPERBOLIC_LIMIT / 1e-9).powf((i * LANES + l) as f64 / (40_000 * LANES - 1) as f64)
+            });
+            let (sinh, cosh) = (f64x8::from(t).sinh(), f64x8::from(t).cosh());
+            for (l, &t) in t.iter().enumerate() {
+                let relative = |a: f64, b: f64| ((a - b) / b).abs();
+                worst_hyperbolic = worst_hyperbolic
+                    .max(relative(sinh.to_array()[l], t.sinh()))
+                    .max(relative(cosh.to_array()[l], t.cosh()));
+            }
         }
-        eprintln!("worst relative difference {worst:e}");
-        assert!(worst < 4e-16 * 4.0, "{worst:e}");
-        assert!(!cosh_sinh(800.0).3 && !cosh_sinh(f64::NAN).3);
+        assert!(40_000.0 * LANES as f64 * 0.377_964_473 > SIN_COS_LIMIT);
+        eprintln!("worst sin/cos difference {worst_trig:e}, worst sinh/cosh relative {worst_hyperbolic:e}");
+        assert!(worst_trig < 1e-15, "{worst_trig:e}");
+        assert!(worst_hyperbolic < 2e-15, "{worst_hyperbolic:e}");
+        let zero = f64x8::ZERO;
+        let (sin, cos) = sin_cos_lanes(zero);
+        assert_eq!((sin.to_array(), cos.to_array()), ([0.0; LANES], [1.0; LANES]));
+        assert_eq!((zero.sinh().to_array(), zero.cosh().to_array()), ([0.0; LANES], [1.0; LANES]));
     }
 }
