@@ -109,6 +109,17 @@ def render(prisma, scene, out, spp, threads, seed, width=None):
     return float(re.search(r'"render_seconds":\s*([0-9.eE+-]+)', text).group(1))
 
 
+
+def alternating(rounds, out, args):
+    """Render seconds of each (name, binary, scene) at 16 spp, seed 7, in `args.repeats` rounds
+    that alternate the scenes (so that a change of load falls on all of them): every round's
+    times by name, and the best by name."""
+    times = {name: [] for name, _, _ in rounds}
+    for _ in range(args.repeats):
+        for name, binary, scene in rounds:
+            times[name].append(render(binary, scene, out, 16, args.threads, 7))
+    return times, {name: min(values) for name, values in times.items()}
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--prisma", default=str(ROOT / "target" / "release" / "prisma"))
@@ -133,11 +144,7 @@ def main():
     rounds = [(name, args.prisma, scene) for name, scene in cameras.items()]
     if args.baseline:
         rounds.append((f"lens, all lanes ({args.baseline_name})", args.baseline, LENS))
-    equal_spp = {name: [] for name, _, _ in rounds}
-    for _ in range(args.repeats):
-        for name, binary, scene in rounds:
-            equal_spp[name].append(render(binary, scene, work / "equal.exr", 16, args.threads, 7))
-    best = {name: min(times) for name, times in equal_spp.items()}
+    equal_spp, best = alternating(rounds, work / "equal.exr", args)
 
     # 1b. The heavier scene, equal spp.
     room_lens, room_shared, room_pinhole = room_scenes(work)
@@ -145,11 +152,7 @@ def main():
                    ("room, pinhole", args.prisma, room_pinhole)]
     if args.baseline:
         room_rounds.append((f"room, lens ({args.baseline_name})", args.baseline, room_lens))
-    room_spp = {name: [] for name, _, _ in room_rounds}
-    for _ in range(args.repeats):
-        for name, binary, scene in room_rounds:
-            room_spp[name].append(render(binary, scene, work / "room.exr", 16, args.threads, 7))
-    room_best = {name: min(times) for name, times in room_spp.items()}
+    room_spp, room_best = alternating(room_rounds, work / "room.exr", args)
 
     # 2. References.
     refs = Path(args.refs) if args.refs else work
