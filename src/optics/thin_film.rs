@@ -501,6 +501,19 @@ fn sinc(z: Complex64, sin: Complex64) -> Complex64 {
     }
 }
 
+/// A seeded xorshift64 stream of uniform numbers in [0, 1) on a 2⁻⁵³ grid, for the stack tests
+/// of this module and of [`lanes`] (reproducible: the same seed, the same numbers).
+#[cfg(test)]
+fn seeded_uniform(seed: u64) -> impl FnMut() -> f64 {
+    let mut state = seed;
+    move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -693,13 +706,7 @@ mod tests {
         // ambients of 1.0 and 1.5 at every angle, both paths in f64: they evaluate the same
         // products in another order, so they agree to rounding (1e-12 leaves room for the
         // growth of cos β, sin β products over six layers).
-        let mut state = 0x2545_f491_4f6c_dd1d_u64;
-        let mut uniform = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut uniform = seeded_uniform(0x2545_f491_4f6c_dd1d);
         let mut compared = 0;
         let mut evanescent = 0;
         for _ in 0..400 {

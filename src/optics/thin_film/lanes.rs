@@ -345,13 +345,7 @@ mod tests {
     /// the scalar real path; the worst measured is printed). No lane is refused.
     #[test]
     fn every_lane_is_the_general_stack() {
-        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
-        let mut uniform = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut uniform = super::super::seeded_uniform(0x9e37_79b9_7f4a_7c15);
         let (mut compared, mut evanescent, mut past_critical) = (0, 0, 0);
         let mut worst = 0.0_f64;
         for _ in 0..300 {
