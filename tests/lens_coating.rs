@@ -16,6 +16,8 @@ use prisma::lens::analysis::{coated_normal_incidence_transmission, normal_incide
 use prisma::lens::coating::parse_coating_spec;
 use prisma::lens::fresnel_stack::{coated_interface_fresnel, transmission_mueller};
 use prisma::lens::{read_lens_file, LensSystem, LensTracer, Medium, TraceOptions};
+use rand_core::{RngCore, SeedableRng};
+use rand_pcg::Pcg64;
 
 fn lens_file(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("data/lenses").join(name)
@@ -203,13 +205,8 @@ fn coated_ghosts_are_fainter() {
     let mean_ghost = |lens: &LensSystem| {
         let tracer = LensTracer::new(lens.clone());
         let options = TraceOptions { max_ghost_reflections: 2, ..TraceOptions::new(550.0) };
-        let mut state = 0x2545_f491_4f6c_dd1d_u64;
-        let mut uniform = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = Pcg64::seed_from_u64(41);
+        let mut uniform = move || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
         let mut sum = 0.0;
         let samples = 20_000;
         for _ in 0..samples {
