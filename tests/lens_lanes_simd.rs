@@ -19,7 +19,8 @@
 use std::path::{Path, PathBuf};
 
 use prisma::lens::{
-    read_lens_file, LensSample, LensSystem, Medium, SensorSampler, TraceOptions, LAMBDA_D_NM,
+    read_lens_file, LensSample, LensSystem, Medium, Ray, ReverseTrace, SensorSampler, TraceOptions,
+    LAMBDA_D_NM,
 };
 use prisma::optics::dispersion::DispersionFormula;
 
@@ -90,7 +91,12 @@ fn compare(expected: &Option<LensSample>, got: &Option<LensSample>, context: &st
     let scale = expected.mueller[0][0].abs();
     assert!((expected.throughput - got.throughput).abs() <= 1e-12 * scale, "{context}: throughput");
     for (a, b) in expected.mueller.iter().flatten().zip(got.mueller.iter().flatten()) {
-        assert!((a - b).abs() <= 1e-12 * scale, "{context}: Mueller {:?} vs {:?}", expected.mueller, got.mueller);
+        assert!(
+            (a - b).abs() <= 1e-12 * scale,
+            "{context}: Mueller {:?} vs {:?}",
+            expected.mueller,
+            got.mueller
+        );
     }
     if expected == got {
         tally.identical += 1;
@@ -164,4 +170,120 @@ fn simd_lanes_take_conics_aspheres_and_power_series_glasses() {
     let blocked = tally.lanes - tally.passed;
     assert!(tally.passed > 2000 && blocked > 1000, "{} passed, {blocked} blocked", tally.passed);
     assert_eq!(tally.identical, tally.lanes, "lanes not bit-identical");
+}
+
+/// `samples` scene rays (each the exit of a random camera ray at a random hero wavelength),
+/// traced back at 1–8 other wavelengths by the SIMD code and by the scalar reverse trace with
+/// its replayed Mueller matrix (`trace_lanes_to_sensor` and `ReverseTrace::sample`).
+fn check_reverse(name: &str, system: LensSystem, samples: usize, seed: u64) -> Tally {
+    let efl = system.paraxial(LAMBDA_D_NM).expect("paraxial").efl_mm.abs();
+    let half_diagonal = (0.5 * 36.0_f64.hypot(24.0)).min(0.4 * efl);
+    let sampler = SensorSampler::new(system, half_diagonal, LAMBDA_D_NM);
+    let mut uniform = Uniform(seed);
+    let mut tally = Tally { lanes: 0, passed: 0, identical: 0 };
+    let mut exits = 0;
+    while exits < samples {
+        let (r, phi) = (half_diagonal * uniform.next().sqrt(), std::f64::consts::TAU * uniform.next());
+        let sensor = [r * phi.cos(), r * phi.sin()];
+        let u = [uniform.next(), uniform.next()];
+        let Some(pupil) = sampler.bounds.sample(sensor, u) else { continue };
+        let hero = TraceOptions::new(360.0 + 470.0 * uniform.next());
+        let Some(exit) = sampler.tracer.trace_from_sensor(sensor, pupil.target_mm, &hero, &mut || 0.0) else {
+            continue;
+        };
+        // Every other exit moved to a random point of surface 0 out to 1.3 times its clear
+        // semi-diameter and turned by up to ~0.3 rad: many of those are blocked on the way back.
+        let exit = if exits % 2 == 0 {
+            let first = &sampler.tracer.system.surfaces[0];
+            let (r, phi) = (
+                1.3 * first.semi_diameter_mm * uniform.next().sqrt(),
+                std::f64::consts::TAU * uniform.next(),
+            );
+            let Some(z) = first.sag_mm(r) else { continue };
+            let turn = glam::DVec3::new(uniform.next() - 0.5, uniform.next() - 0.5, 0.0) * 0.6;
+            Ray {
+                origin: glam::DVec3::new(r * phi.cos(), r * phi.sin(), z),
+                dir: (exit.dir + turn).normalize(),
+            }
+        } else {
+            Ray { origin: exit.origin_mm, dir: exit.dir }
+        };
+        let lanes = 1 + exits % LANES;
+        exits += 1;
+        let lambdas: Vec<f64> = (0..lanes).map(|_| 360.0 + 470.0 * uniform.next()).collect();
+        let up = if exits % 3 == 0 { glam::DVec3::new(0.3, 0.9, 0.1).normalize() } else { glam::DVec3::Y };
+        let mut traces = vec![ReverseTrace::EMPTY; lanes];
+        let mut blocked = vec![None; lanes];
+        sampler.tracer.trace_lanes_to_sensor(exit, &lambdas, &mut traces, &mut blocked);
+        for (full_mueller, fresnel) in [(false, true), (true, true), (false, false)] {
+            let options = TraceOptions { full_mueller, fresnel, up, ..TraceOptions::new(LAMBDA_D_NM) };
+            let mut back = [None; LANES];
+            sampler.tracer.trace_lanes_back_to_sensor(exit, &lambdas, &options, &mut back);
+            for lane in 0..lanes {
+                let context =
+                    format!("{name}, exit {exits}, lane {lane}, full {full_mueller}, fresnel {fresnel}");
+                tally.lanes += 1;
+                match (&back[lane], blocked[lane]) {
+                    (None, Some(_)) => tally.identical += 1,
+                    (Some(got), None) => {
+                        tally.passed += 1;
+                        let expected = &traces[lane];
+                        let sample =
+                            expected.sample(&sampler.tracer, &options).expect("a passing lane's sample");
+                        let (dp, dt) = (
+                            (got.sensor_mm[0] - expected.sensor_mm[0])
+                                .abs()
+                                .max((got.sensor_mm[1] - expected.sensor_mm[1]).abs()),
+                            (got.target_mm[0] - expected.target_mm[0])
+                                .abs()
+                                .max((got.target_mm[1] - expected.target_mm[1]).abs()),
+                        );
+                        assert!(dp <= 1e-12 && dt <= 1e-12, "{context}: p off by {dp} mm, t by {dt} mm");
+                        let scale = sample.mueller[0][0].abs();
+                        for (a, b) in sample.mueller.iter().flatten().zip(got.sample.mueller.iter().flatten())
+                        {
+                            assert!((a - b).abs() <= 1e-12 * scale, "{context}: Mueller");
+                        }
+                        assert_eq!(
+                            (sample.origin_mm, sample.dir),
+                            (got.sample.origin_mm, got.sample.dir),
+                            "{context}"
+                        );
+                        if sample == got.sample
+                            && expected.sensor_mm == got.sensor_mm
+                            && expected.target_mm == got.target_mm
+                        {
+                            tally.identical += 1;
+                        }
+                    }
+                    (got, expected) => {
+                        panic!("{context}: verdicts differ: SIMD {got:?}, scalar blocked {expected:?}")
+                    }
+                }
+            }
+        }
+    }
+    eprintln!(
+        "{name} (back): {} lanes compared, {} passing, {} bit-identical",
+        tally.lanes, tally.passed, tally.identical
+    );
+    tally
+}
+
+#[test]
+fn simd_reverse_lanes_are_the_scalar_reverse_trace_for_every_shipped_lens() {
+    let mut lenses: Vec<(String, LensSystem)> = shipped_lenses()
+        .iter()
+        .map(|file| {
+            let name = file.file_name().and_then(|n| n.to_str()).unwrap_or("?").to_owned();
+            (name, read_lens_file(file).expect("a shipped lens reads"))
+        })
+        .collect();
+    lenses.push(("dgauss50 variant".into(), variant_lens()));
+    for (index, (name, system)) in lenses.into_iter().enumerate() {
+        let tally = check_reverse(&name, system, 1000, 0xD1B5_4A32_D192_ED03 ^ index as u64);
+        let blocked = tally.lanes - tally.passed;
+        assert!(tally.passed > 2000 && blocked > 100, "{name}: {} passed, {blocked} blocked", tally.passed);
+        assert_eq!(tally.identical, tally.lanes, "{name}: lanes not bit-identical");
+    }
 }

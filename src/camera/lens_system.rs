@@ -106,8 +106,8 @@ use super::{CameraError, Pinhole};
 use crate::geometry::Ray;
 use crate::lens::trace::MAX_LANES;
 use crate::lens::{
-    read_lens_file, CameraRay, LensSample, LensSystem, PupilSample, ReverseTrace, SensorSampler,
-    TraceOptions, LAMBDA_D_NM, MAX_REVERSE_SURFACES,
+    read_lens_file, CameraRay, LensSample, LensSystem, PupilSample, SensorSampler, TraceOptions, LAMBDA_D_NM,
+    MAX_REVERSE_SURFACES,
 };
 
 // A camera sample's wavelength lanes are traced together.
@@ -455,11 +455,11 @@ impl LensCamera {
         let others = &others[..count - 1];
         let lambdas: [f64; MAX_LANES] =
             std::array::from_fn(|k| others.get(k).map_or(0.0, |&lane| f64::from(lambdas_nm[lane])));
-        let mut traces = [ReverseTrace::EMPTY; MAX_LANES];
-        let mut blocked = [None; MAX_LANES];
-        sampler.tracer.trace_lanes_to_sensor(scene_ray, &lambdas[..count - 1], &mut traces, &mut blocked);
-        for ((&lane, reverse), blocked) in others.iter().zip(&traces).zip(blocked) {
-            if blocked.is_some() || !self.in_pixel(pixel, reverse.sensor_mm) {
+        let mut back = [None; MAX_LANES];
+        sampler.tracer.trace_lanes_back_to_sensor(scene_ray, &lambdas[..count - 1], &options, &mut back);
+        for (&lane, reverse) in others.iter().zip(&back) {
+            let Some(reverse) = reverse else { continue };
+            if !self.in_pixel(pixel, reverse.sensor_mm) {
                 continue;
             }
             let preimage = PupilSample {
@@ -467,7 +467,7 @@ impl LensCamera {
                 pdf_per_mm2: sampler.bounds.pdf_per_mm2(reverse.sensor_mm, reverse.target_mm),
             };
             density_sum += sampler.normalisation.inverse_sensor_weight(reverse.sensor_mm, &preimage);
-            samples[lane] = reverse.sample(&sampler.tracer, &options);
+            samples[lane] = Some(reverse.sample);
         }
         // The mixture's density is the mean over the lanes; the fault takes the hero's alone.
         let sensor_weight = if hero_pdf_only { 1.0 / hero_density } else { count as f64 / density_sum };

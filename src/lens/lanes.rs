@@ -1,7 +1,9 @@
 //! A camera sample's wavelength lanes traced through the lens together, in SIMD: every
 //! quantity of the trace one [`wide::f64x8`] over the 8 lanes (one AVX-512 register where the
 //! CPU has it, two AVX2 halves otherwise; `.cargo/config.toml` builds for the host), in f64,
-//! for [`LensTracer::trace_lanes_from_sensor`] (the transmitted branch, no ghosts).
+//! for [`LensTracer::trace_lanes_from_sensor`] (the transmitted branch, no ghosts) and, backward
+//! from a scene ray to the sensor with each lane's Mueller matrix, for
+//! [`LensTracer::trace_lanes_back_to_sensor`] (the camera's shared scene path).
 //!
 //! Per surface, from the rear element to the front: the ray–surface hit (sphere, plane or
 //! conic in vectors; an even asphere's Newton iteration lane by lane), the clear aperture as a
@@ -20,14 +22,17 @@
 //! already overlapped.
 
 mod path;
+mod reverse;
 mod surface;
 mod vec3;
+
+pub use self::reverse::ReverseLane;
 
 use wide::f64x8;
 
 use self::path::PathLanes;
-use self::surface::{hit_lanes, index_lanes, transmission_lanes};
-use self::vec3::{and_not, first_lanes, lane_set, V3};
+use self::surface::{cross_lanes, index_lanes, transmission_lanes};
+use self::vec3::{first_lanes, lane_set, V3};
 use super::trace::{LensSample, LensTracer, TraceOptions, MAX_LANES};
 
 impl LensTracer {
@@ -51,7 +56,8 @@ impl LensTracer {
             return;
         }
         // Lanes past `lanes` trace the first lane's wavelength, masked off.
-        let lambdas: [f64; MAX_LANES] = std::array::from_fn(|lane| lambdas_nm[if lane < lanes { lane } else { 0 }]);
+        let lambdas: [f64; MAX_LANES] =
+            std::array::from_fn(|lane| lambdas_nm[if lane < lanes { lane } else { 0 }]);
         let lambda = f64x8::from(lambdas);
         let mut live = first_lanes(lanes);
         let mut origin = V3::splat(start.origin);
@@ -63,32 +69,17 @@ impl LensTracer {
         for at in (0..surfaces.len()).rev() {
             let surface = &surfaces[at];
             let n_other = index_lanes(self.system.medium_before(at), lambda, &lambdas);
-            let hit = hit_lanes(surface, self.vertex_z_mm[at], origin, dir, live);
-            // surface_geometry::within_aperture, with its slack.
-            let semi_squared = surface.semi_diameter_mm * surface.semi_diameter_mm;
-            let rim = f64x8::splat(semi_squared * (1.0 + 1e-12));
-            live = hit.hit & (hit.point.x * hit.point.x + hit.point.y * hit.point.y).simd_le(rim);
+            let crossing = cross_lanes(surface, self.vertex_z_mm[at], origin, dir, n_in / n_other, live);
+            live = crossing.live;
             if live.to_bitmask() == 0 {
                 return;
             }
-            // trace::LensTracer::meet: the normal facing the ray, the cosine of incidence.
-            let normal = hit.normal;
-            let cos_signed = normal.dot(dir);
-            let facing = V3::select(cos_signed.simd_lt(f64x8::ZERO), normal, normal.neg());
-            let cos_abs = cos_signed.abs();
-            let cos_i = cos_abs.simd_gt(f64x8::ONE).select(f64x8::ONE, cos_abs);
-            // trace::refract, total internal reflection blocking.
-            let eta = n_in / n_other;
-            let cos_t_sqr = f64x8::ONE - eta * eta * (f64x8::ONE - cos_i * cos_i);
-            live = and_not(live, cos_t_sqr.simd_lt(f64x8::ZERO));
-            let along_normal = eta * cos_i - cos_t_sqr.sqrt();
-            let dir_out = dir.scaled(eta).plus(facing.scaled(along_normal)).normalize();
             if options.fresnel {
-                let element = transmission_lanes(surface, cos_i, n_in, n_other, &lambdas, live);
-                path.visit(normal, dir, dir_out, &element);
+                let element = transmission_lanes(surface, crossing.cos_i, n_in, n_other, &lambdas, live);
+                path.visit(crossing.normal, dir, crossing.dir_out, &element);
             }
-            origin = hit.point;
-            dir = dir_out;
+            origin = crossing.point;
+            dir = crossing.dir_out;
             n_in = n_other;
         }
         let mueller = path.finish(dir, options.up, live, options.fresnel);

@@ -41,6 +41,7 @@ pub mod zmx;
 pub use coating::Coating;
 pub use file::read_lens_file;
 pub use fresnel_stack::{interface_fresnel, InterfaceFresnel, Mueller4};
+pub use lanes::ReverseLane;
 pub use paraxial::{Paraxial, LAMBDA_D_NM};
 pub use prescription::{LensError, LensSystem, Medium, Surface};
 pub use pupil::{

@@ -28,10 +28,19 @@ impl PathLanes {
     /// The path of camera rays leaving the sensor along `dir` (every lane), with the camera's
     /// `up`; `rows` 4 (the whole matrix) or 1 (row 0).
     pub fn start(dir: DVec3, up: DVec3, rows: usize) -> Self {
+        Self::with_x(V3::splat(camera_stokes_x(dir, up)), rows)
+    }
+
+    /// [`Self::start`] with each lane's own direction `dir`, for the lanes of `live`.
+    pub fn start_lanes(dir: V3, up: DVec3, rows: usize, live: Mask) -> Self {
+        Self::with_x(camera_stokes_x_lanes(dir, up, live), rows)
+    }
+
+    fn with_x(previous_x: V3, rows: usize) -> Self {
         let identity = std::array::from_fn(|row| {
             std::array::from_fn(|col| if row == col { f64x8::ONE } else { f64x8::ZERO })
         });
-        Self { rows: identity, count: rows, previous_x: V3::splat(camera_stokes_x(dir, up)) }
+        Self { rows: identity, count: rows, previous_x }
     }
 
     /// Adds an interface of unit normal `normal` that the camera rays met along `dir_in` and
@@ -63,20 +72,7 @@ impl PathLanes {
     /// path is the identity), for the lanes of `live`; rows not carried are 0.
     pub fn finish(mut self, exit_dir: V3, up: DVec3, live: Mask, rotate: bool) -> [[[f64; 4]; 4]; MAX_LANES] {
         if rotate {
-            // fresnel_stack::camera_stokes_x: normalize(dir × up), else a perpendicular.
-            let x = exit_dir.cross(V3::splat(up));
-            let length_squared = x.dot(x);
-            let mut scene_x = x.divided(length_squared.sqrt());
-            let parallel = and_not(live, length_squared.simd_gt(f64x8::splat(PARALLEL_SQUARED)));
-            if parallel.any() {
-                let mut lanes = scene_x.lanes();
-                for (lane, dir) in exit_dir.lanes().iter().enumerate() {
-                    if lane_set(parallel, lane) {
-                        lanes[lane] = camera_stokes_x(*dir, up);
-                    }
-                }
-                scene_x = V3::from_lanes(&lanes);
-            }
+            let scene_x = camera_stokes_x_lanes(exit_dir, up, live);
             let (cos_2, sin_2) = rotation_angle(exit_dir.neg(), scene_x, self.previous_x);
             let minus_sin_2 = -sin_2;
             // fresnel_stack::rotate_row.
@@ -95,6 +91,26 @@ impl PathLanes {
         }
         out
     }
+}
+
+/// `fresnel_stack::camera_stokes_x` per lane: normalize(`dir` × `up`), else (`dir` ∥ `up`, lane
+/// by lane with the scalar function) a perpendicular of `dir`, for the lanes of `live`.
+#[inline]
+fn camera_stokes_x_lanes(dir: V3, up: DVec3, live: Mask) -> V3 {
+    let x = dir.cross(V3::splat(up));
+    let length_squared = x.dot(x);
+    let scene_x = x.divided(length_squared.sqrt());
+    let parallel = and_not(live, length_squared.simd_gt(f64x8::splat(PARALLEL_SQUARED)));
+    if !parallel.any() {
+        return scene_x;
+    }
+    let mut lanes = scene_x.lanes();
+    for (lane, dir) in dir.lanes().iter().enumerate() {
+        if lane_set(parallel, lane) {
+            lanes[lane] = camera_stokes_x(*dir, up);
+        }
+    }
+    V3::from_lanes(&lanes)
 }
 
 /// `fresnel_stack::rotation_angle`: cos 2θ and sin 2θ of the Stokes rotation from x axis

@@ -14,7 +14,7 @@ use wide::f64x8;
 use super::vec3::{and_not, lane_set, Mask, V3};
 use crate::lens::fresnel_stack::{coated_interface_fresnel, DiagonalElement};
 use crate::lens::surface_geometry::intersect;
-use crate::lens::trace::{T_MIN_MM, MAX_LANES};
+use crate::lens::trace::{MAX_LANES, T_MIN_MM};
 use crate::lens::{Medium, Surface};
 use crate::optics::dispersion::DispersionFormula;
 
@@ -98,7 +98,8 @@ pub(super) fn hit_lanes(surface: &Surface, vertex_z_mm: f64, origin: V3, dir: V3
         gradient.normalize()
     };
     hit &= normal.is_finite();
-    let point = V3 { x: point_local.x + zero, y: point_local.y + zero, z: point_local.z + splat(vertex_z_mm) };
+    let point =
+        V3 { x: point_local.x + zero, y: point_local.y + zero, z: point_local.z + splat(vertex_z_mm) };
     HitLanes { point, normal, hit: hit & live }
 }
 
@@ -123,6 +124,49 @@ fn hit_lanes_scalar(surface: &Surface, vertex_z_mm: f64, origin: V3, dir: V3, li
         normal: V3::from_lanes(&normals),
         hit: f64x8::from(hit).simd_eq(f64x8::ONE),
     }
+}
+
+/// The lanes' rays refracted by a surface: where they meet it, its normal there (toward +z), the
+/// unsigned cosine of incidence, the refracted direction, and the lanes still live.
+pub(super) struct Crossing {
+    pub point: V3,
+    pub normal: V3,
+    pub cos_i: f64x8,
+    pub dir_out: V3,
+    pub live: Mask,
+}
+
+/// The lanes of `live` with rays `origin + t·dir` (unit `dir`) meeting `surface` (vertex at z =
+/// `vertex_z_mm`) and refracted into it with `eta` = n_incident / n_transmitted: the hit
+/// ([`hit_lanes`]), the clear aperture (`surface_geometry::within_aperture`, its slack
+/// included), the normal facing the ray and Snell's law (`trace::refract`), total internal
+/// reflection blocking, as `trace::LensTracer::meet` and `reverse::LensTracer::step_back` do
+/// them.
+#[inline(always)]
+pub(super) fn cross_lanes(
+    surface: &Surface,
+    vertex_z_mm: f64,
+    origin: V3,
+    dir: V3,
+    eta: f64x8,
+    live: Mask,
+) -> Crossing {
+    let one = f64x8::ONE;
+    let hit = hit_lanes(surface, vertex_z_mm, origin, dir, live);
+    let semi_squared = surface.semi_diameter_mm * surface.semi_diameter_mm;
+    let rim = f64x8::splat(semi_squared * (1.0 + 1e-12));
+    let mut live = hit.hit & (hit.point.x * hit.point.x + hit.point.y * hit.point.y).simd_le(rim);
+    let normal = hit.normal;
+    let cos_signed = normal.dot(dir);
+    let facing = V3::select(cos_signed.simd_lt(f64x8::ZERO), normal, normal.neg());
+    // |cos|.min(1).
+    let cos_abs = cos_signed.abs();
+    let cos_i = cos_abs.simd_gt(one).select(one, cos_abs);
+    let cos_t_sqr = one - eta * eta * (one - cos_i * cos_i);
+    live = and_not(live, cos_t_sqr.simd_lt(f64x8::ZERO));
+    let along_normal = eta * cos_i - cos_t_sqr.sqrt();
+    let dir_out = dir.scaled(eta).plus(facing.scaled(along_normal)).normalize();
+    Crossing { point: hit.point, normal, cos_i, dir_out, live }
 }
 
 /// The Mueller element of the transmitted beam, [[a, b, 0, 0], [b, a, 0, 0], [0, 0, w_re,
@@ -157,8 +201,14 @@ pub(super) fn transmission_lanes(
             if !lane_set(live, lane) {
                 continue;
             }
-            let fresnel =
-                coated_interface_fresnel(cos_i[lane], n_in[lane], n_other[lane], coating, false, lambdas_nm[lane]);
+            let fresnel = coated_interface_fresnel(
+                cos_i[lane],
+                n_in[lane],
+                n_other[lane],
+                coating,
+                false,
+                lambdas_nm[lane],
+            );
             let element = DiagonalElement::transmission(&fresnel);
             for (part, value) in parts.iter_mut().zip([element.a, element.b, element.w_re, element.w_im]) {
                 part[lane] = value;
