@@ -115,9 +115,17 @@ fn lens_benchmarks(c: &mut Criterion) {
                 let mut total = 0.0;
                 let options = TraceOptions { full_mueller, ..TraceOptions::new(LAMBDA_D_NM) };
                 for (sensor, u, _) in &rays {
-                    let Some(pupil) = sampler.bounds.sample(black_box(*sensor), black_box(*u)) else { continue };
+                    let Some(pupil) = sampler.bounds.sample(black_box(*sensor), black_box(*u)) else {
+                        continue;
+                    };
                     let mut out = [None; MAX_LANES];
-                    sampler.tracer.trace_lanes_from_sensor(*sensor, pupil.target_mm, &lanes, &options, &mut out);
+                    sampler.tracer.trace_lanes_from_sensor(
+                        *sensor,
+                        pupil.target_mm,
+                        &lanes,
+                        &options,
+                        &mut out,
+                    );
                     let weight = sampler.normalisation.sensor_weight(*sensor, &pupil);
                     total += out.iter().flatten().map(|sample| weight * sample.throughput).sum::<f64>();
                 }

@@ -15,7 +15,7 @@ use super::vec3::{and_not, lane_set, Mask, V3};
 use crate::lens::fresnel_stack::{coated_interface_fresnel, DiagonalElement};
 use crate::lens::surface_geometry::intersect;
 use crate::lens::trace::{MAX_LANES, T_MIN_MM};
-use crate::lens::{Medium, Surface};
+use crate::lens::{Coating, Medium, Surface};
 use crate::optics::dispersion::DispersionFormula;
 
 /// The refractive index of `medium` at every lane's wavelength `lambda_nm` (nm; the same
@@ -56,7 +56,7 @@ pub(super) struct HitLanes {
 /// The lanes' rays `origin + t·dir` (unit `dir`) meeting `surface`, whose vertex is at z =
 /// `vertex_z_mm`: [`intersect`] with `T_MIN_MM` per lane, for the lanes of `live` (the others'
 /// numbers are meaningless).
-#[inline]
+#[inline(always)]
 pub(super) fn hit_lanes(surface: &Surface, vertex_z_mm: f64, origin: V3, dir: V3, live: Mask) -> HitLanes {
     if !surface.aspheric_mm.is_empty() {
         return hit_lanes_scalar(surface, vertex_z_mm, origin, dir, live);
@@ -104,6 +104,7 @@ pub(super) fn hit_lanes(surface: &Surface, vertex_z_mm: f64, origin: V3, dir: V3
 }
 
 /// [`hit_lanes`] lane by lane with [`intersect`] (an even asphere's Newton iteration).
+#[inline(never)]
 fn hit_lanes_scalar(surface: &Surface, vertex_z_mm: f64, origin: V3, dir: V3, live: Mask) -> HitLanes {
     let (origins, dirs) = (origin.lanes(), dir.lanes());
     let mut points = [DVec3::ZERO; MAX_LANES];
@@ -185,7 +186,7 @@ pub(super) struct ElementLanes {
 /// denominator vanishes, 0 under total internal reflection, as the complex path gives them);
 /// for a coated one, [`coated_interface_fresnel`] lane by lane (toward the object, as the camera
 /// ray crosses it), for the lanes of `live`.
-#[inline]
+#[inline(always)]
 pub(super) fn transmission_lanes(
     surface: &Surface,
     cos_i: f64x8,
@@ -195,27 +196,7 @@ pub(super) fn transmission_lanes(
     live: Mask,
 ) -> ElementLanes {
     if let Some(coating) = &surface.coating {
-        let (cos_i, n_in, n_other) = (cos_i.to_array(), n_in.to_array(), n_other.to_array());
-        let mut parts = [[0.0; MAX_LANES]; 4];
-        for lane in 0..MAX_LANES {
-            if !lane_set(live, lane) {
-                continue;
-            }
-            let fresnel = coated_interface_fresnel(
-                cos_i[lane],
-                n_in[lane],
-                n_other[lane],
-                coating,
-                false,
-                lambdas_nm[lane],
-            );
-            let element = DiagonalElement::transmission(&fresnel);
-            for (part, value) in parts.iter_mut().zip([element.a, element.b, element.w_re, element.w_im]) {
-                part[lane] = value;
-            }
-        }
-        let [a, b, w_re, w_im] = parts.map(f64x8::from);
-        return ElementLanes { a, b, w_re, w_im };
+        return coated_transmission_lanes(coating, cos_i, n_in, n_other, lambdas_nm, live);
     }
     let splat = f64x8::splat;
     let (zero, one) = (f64x8::ZERO, f64x8::ONE);
@@ -259,4 +240,37 @@ pub(super) fn transmission_lanes(
         w_re: pick(real.w_re, one),
         w_im: pick(real.w_im, zero),
     }
+}
+
+/// [`transmission_lanes`] of a coated surface, lane by lane with [`coated_interface_fresnel`].
+#[inline(never)]
+fn coated_transmission_lanes(
+    coating: &Coating,
+    cos_i: f64x8,
+    n_in: f64x8,
+    n_other: f64x8,
+    lambdas_nm: &[f64; MAX_LANES],
+    live: Mask,
+) -> ElementLanes {
+    let (cos_i, n_in, n_other) = (cos_i.to_array(), n_in.to_array(), n_other.to_array());
+    let mut parts = [[0.0; MAX_LANES]; 4];
+    for lane in 0..MAX_LANES {
+        if !lane_set(live, lane) {
+            continue;
+        }
+        let fresnel = coated_interface_fresnel(
+            cos_i[lane],
+            n_in[lane],
+            n_other[lane],
+            coating,
+            false,
+            lambdas_nm[lane],
+        );
+        let element = DiagonalElement::transmission(&fresnel);
+        for (part, value) in parts.iter_mut().zip([element.a, element.b, element.w_re, element.w_im]) {
+            part[lane] = value;
+        }
+    }
+    let [a, b, w_re, w_im] = parts.map(f64x8::from);
+    ElementLanes { a, b, w_re, w_im }
 }
