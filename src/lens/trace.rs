@@ -17,7 +17,9 @@
 //! Cost (issue 40, validation/bench/RESULTS.md): each medium's index is evaluated once per
 //! surface and trace; the path's Mueller matrix is carried row by row (r ← r·Rot·E, the 4×4
 //! products' own arithmetic without their zero terms), only row 0 for unpolarised light
-//! ([`TraceOptions::full_mueller`]).
+//! ([`TraceOptions::full_mueller`]). A render without ghosts traces a camera sample's 8 lanes in
+//! SIMD (`super::lanes`, the same numbers to the bit); this scalar trace is the reference, and
+//! what ghosts, the shared path's hero lane and the analyses use.
 //!
 //! # Ghosts: the branch estimator
 //! At each surface the camera ray either reflects, with probability R (the unpolarised Fresnel
