@@ -135,7 +135,7 @@ fn lens_benchmarks(c: &mut Criterion) {
     }
     group.finish();
 
-    // The shared path: the hero's scene rays (the lane at 595 nm of each camera sample that
+    // The shared path: the hero's scene rays (the lane at 683 nm of each camera sample that
     // passes), each traced back at the other 7 wavelengths; per 1024 scene rays, 7168 lanes.
     let hero = TraceOptions { full_mueller: false, ..TraceOptions::new(lanes[5]) };
     let exits: Vec<Ray> = rays
