@@ -8,8 +8,12 @@
 //! by 1024 is the time per lane. `unpolarised` carries row 0 of the Mueller matrix (what an
 //! unpolarised render asks for), `polarised` the whole matrix. The share of the 1024 rays
 //! that pass the lens is printed once. `lens_camera_sample_8_lanes` is a camera sample's eight
-//! lanes (360–830 nm), traced one by one or together
-//! ([`prisma::lens::LensTracer::trace_lanes_from_sensor`], what a render without ghosts does).
+//! lanes (360–830 nm), traced one by one (scalar) or together
+//! ([`prisma::lens::LensTracer::trace_lanes_from_sensor`], in SIMD: what a render without ghosts
+//! does), unpolarised and polarised; `lens_shared_path_7_lanes` is the shared scene path's lens
+//! work per camera sample besides the hero's trace: the other 7 lanes traced back from the
+//! hero's scene ray with their Mueller matrices
+//! ([`prisma::lens::LensTracer::trace_lanes_back_to_sensor`], SIMD), per 1024 scene rays.
 //! `cargo bench --bench lens`.
 
 use std::hint::black_box;
@@ -17,7 +21,7 @@ use std::path::Path;
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use prisma::lens::trace::MAX_LANES;
-use prisma::lens::{read_lens_file, SensorSampler, TraceOptions, LAMBDA_D_NM};
+use prisma::lens::{read_lens_file, Ray, SensorSampler, TraceOptions, LAMBDA_D_NM};
 
 const CALLS: usize = 1024;
 
@@ -105,16 +109,55 @@ fn lens_benchmarks(c: &mut Criterion) {
             black_box(total)
         })
     });
-    group.bench_function("together", |b| {
+    for (name, full_mueller) in [("together", false), ("together_polarised", true)] {
+        group.bench_function(name, |b| {
+            b.iter(|| {
+                let mut total = 0.0;
+                let options = TraceOptions { full_mueller, ..TraceOptions::new(LAMBDA_D_NM) };
+                for (sensor, u, _) in &rays {
+                    let Some(pupil) = sampler.bounds.sample(black_box(*sensor), black_box(*u)) else {
+                        continue;
+                    };
+                    let mut out = [None; MAX_LANES];
+                    sampler.tracer.trace_lanes_from_sensor(
+                        *sensor,
+                        pupil.target_mm,
+                        &lanes,
+                        &options,
+                        &mut out,
+                    );
+                    let weight = sampler.normalisation.sensor_weight(*sensor, &pupil);
+                    total += out.iter().flatten().map(|sample| weight * sample.throughput).sum::<f64>();
+                }
+                black_box(total)
+            })
+        });
+    }
+    group.finish();
+
+    // The shared path: the hero's scene rays (the lane at 683 nm of each camera sample that
+    // passes), each traced back at the other 7 wavelengths; per 1024 scene rays, 7168 lanes.
+    let hero = TraceOptions { full_mueller: false, ..TraceOptions::new(lanes[5]) };
+    let exits: Vec<Ray> = rays
+        .iter()
+        .filter_map(|(sensor, u, _)| {
+            let pupil = sampler.bounds.sample(*sensor, *u)?;
+            let exit = sampler.tracer.trace_from_sensor(*sensor, pupil.target_mm, &hero, &mut || 0.0)?;
+            Some(Ray { origin: exit.origin_mm, dir: exit.dir })
+        })
+        .cycle()
+        .take(CALLS)
+        .collect();
+    let others: Vec<f64> = lanes.iter().enumerate().filter(|&(k, _)| k != 5).map(|(_, l)| *l).collect();
+    let mut group = c.benchmark_group("lens_shared_path_7_lanes");
+    group.throughput(Throughput::Elements((7 * CALLS) as u64));
+    group.bench_function("back_to_sensor", |b| {
         b.iter(|| {
             let mut total = 0.0;
-            let options = TraceOptions { full_mueller: false, ..TraceOptions::new(LAMBDA_D_NM) };
-            for (sensor, u, _) in &rays {
-                let Some(pupil) = sampler.bounds.sample(black_box(*sensor), black_box(*u)) else { continue };
-                let mut out = [None; MAX_LANES];
-                sampler.tracer.trace_lanes_from_sensor(*sensor, pupil.target_mm, &lanes, &options, &mut out);
-                let weight = sampler.normalisation.sensor_weight(*sensor, &pupil);
-                total += out.iter().flatten().map(|sample| weight * sample.throughput).sum::<f64>();
+            for exit in &exits {
+                let mut back = [None; MAX_LANES];
+                sampler.tracer.trace_lanes_back_to_sensor(black_box(*exit), &others, &hero, &mut back);
+                total += back.iter().flatten().map(|lane| lane.sample.throughput).sum::<f64>();
             }
             black_box(total)
         })

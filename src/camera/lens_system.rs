@@ -78,15 +78,18 @@
 //!
 //! *Why it is not the default* (validation/bench/RESULTS.md, "Lens-system camera against the
 //! pinhole"): it saves the scene paths, not the lens: a camera sample still traces the lens
-//! once per lane (the hero out, the others back, each with its Mueller matrix), and the lens
-//! is most of the cost of a lens render. What it saves is paid for in noise: the lanes'
-//! preimages of one scene ray fall up to a few pixels apart (the double Gauss's colour: at
-//! 360×240, 59 % of its camera samples have a lane whose preimage leaves the pixel or is
-//! blocked), each such lane adds 0 while the others carry more, and one scene path instead of
-//! eight leaves the scene's own noise undivided. On `scenes/lens_dgauss50.toml` it is
-//! 1.2–1.5× faster per sample and 1.6–2.2× slower to equal error; on a scene whose paths cost
-//! more than the lens (the glass-and-mirror room, max_depth 64) 1.7× faster per sample and
-//! 1.13–1.19× faster to equal error.
+//! once per lane (the hero out, one scalar trace; the others back, in SIMD with their Mueller
+//! matrices, [`crate::lens::LensTracer::trace_lanes_back_to_sensor`]), while the per-lane
+//! default traces its 8 lanes out in one SIMD trace
+//! ([`crate::lens::LensTracer::trace_lanes_from_sensor`]), so the two cost about the same per
+//! sample on `scenes/lens_dgauss50.toml` (8.0× and 8.3× the pinhole, 16 spp). What the shared
+//! path saves is paid for in noise: the lanes' preimages of one scene ray fall up to a few
+//! pixels apart (the double Gauss's colour: at 360×240, 59 % of its camera samples have a lane
+//! whose preimage leaves the pixel or is blocked), each such lane adds 0 while the others
+//! carry more, and one scene path instead of eight leaves the scene's own noise undivided
+//! (relMSE 2.5× the per-lane's at equal spp). So on `scenes/lens_dgauss50.toml` it is 2.1–2.6×
+//! slower to equal error; on a scene whose paths cost more than the lens (the glass-and-mirror
+//! room, max_depth 64) it is 1.6× faster per sample.
 //!
 //! **Polarisation.** In a polarised render the Stokes vector arriving along the ray goes
 //! through the lens's Mueller matrix (every surface's exact s/p Fresnel transmission, the
@@ -106,8 +109,8 @@ use super::{CameraError, Pinhole};
 use crate::geometry::Ray;
 use crate::lens::trace::MAX_LANES;
 use crate::lens::{
-    read_lens_file, CameraRay, LensSample, LensSystem, PupilSample, ReverseTrace, SensorSampler,
-    TraceOptions, LAMBDA_D_NM, MAX_REVERSE_SURFACES,
+    read_lens_file, CameraRay, LensSample, LensSystem, PupilSample, SensorSampler, TraceOptions, LAMBDA_D_NM,
+    MAX_REVERSE_SURFACES,
 };
 
 // A camera sample's wavelength lanes are traced together.
@@ -455,11 +458,11 @@ impl LensCamera {
         let others = &others[..count - 1];
         let lambdas: [f64; MAX_LANES] =
             std::array::from_fn(|k| others.get(k).map_or(0.0, |&lane| f64::from(lambdas_nm[lane])));
-        let mut traces = [ReverseTrace::EMPTY; MAX_LANES];
-        let mut blocked = [None; MAX_LANES];
-        sampler.tracer.trace_lanes_to_sensor(scene_ray, &lambdas[..count - 1], &mut traces, &mut blocked);
-        for ((&lane, reverse), blocked) in others.iter().zip(&traces).zip(blocked) {
-            if blocked.is_some() || !self.in_pixel(pixel, reverse.sensor_mm) {
+        let mut back = [None; MAX_LANES];
+        sampler.tracer.trace_lanes_back_to_sensor(scene_ray, &lambdas[..count - 1], &options, &mut back);
+        for (&lane, reverse) in others.iter().zip(&back) {
+            let Some(reverse) = reverse else { continue };
+            if !self.in_pixel(pixel, reverse.sensor_mm) {
                 continue;
             }
             let preimage = PupilSample {
@@ -467,7 +470,7 @@ impl LensCamera {
                 pdf_per_mm2: sampler.bounds.pdf_per_mm2(reverse.sensor_mm, reverse.target_mm),
             };
             density_sum += sampler.normalisation.inverse_sensor_weight(reverse.sensor_mm, &preimage);
-            samples[lane] = reverse.sample(&sampler.tracer, &options);
+            samples[lane] = Some(reverse.sample);
         }
         // The mixture's density is the mean over the lanes; the fault takes the hero's alone.
         let sensor_weight = if hero_pdf_only { 1.0 / hero_density } else { count as f64 / density_sum };

@@ -235,10 +235,10 @@ pub fn jones_diagonal(a_x: Complex64, a_y: Complex64, flux: f64) -> Mueller4 {
 /// carried through it without the 4×4 product ([`rotate_then_element`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct DiagonalElement {
-    a: f64,
-    b: f64,
-    w_re: f64,
-    w_im: f64,
+    pub(crate) a: f64,
+    pub(crate) b: f64,
+    pub(crate) w_re: f64,
+    pub(crate) w_im: f64,
 }
 
 impl DiagonalElement {

@@ -17,7 +17,7 @@
 //!
 //! Modules: [`prescription`] (the types), [`paraxial`] (first-order data per wavelength),
 //! [`surface_geometry`] (sag, ray–surface hits, normals), [`fresnel_stack`] (f64 Fresnel and
-//! path Mueller matrices), [`trace`] (real rays both ways, ghost branches), [`reverse`] (a scene ray
+//! path Mueller matrices), [`trace`] (real rays both ways, ghost branches; `lanes`: a camera sample's wavelengths in SIMD), [`reverse`] (a scene ray
 //! back to the sensor, for the camera's hero wavelength), [`pupil`] (aiming
 //! camera rays and the radiometric weight), [`file`] with [`pbrt`] and [`zmx`] (reading
 //! prescriptions; [`glass_spec`] for a pbrt file's glass column; [`coating`] for coated
@@ -28,6 +28,7 @@ pub mod coating;
 pub mod file;
 pub mod fresnel_stack;
 pub mod glass_spec;
+mod lanes;
 pub mod paraxial;
 pub mod pbrt;
 pub mod prescription;
@@ -40,6 +41,7 @@ pub mod zmx;
 pub use coating::Coating;
 pub use file::read_lens_file;
 pub use fresnel_stack::{interface_fresnel, InterfaceFresnel, Mueller4};
+pub use lanes::ReverseLane;
 pub use paraxial::{Paraxial, LAMBDA_D_NM};
 pub use prescription::{LensError, LensSystem, Medium, Surface};
 pub use pupil::{

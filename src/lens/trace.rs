@@ -11,13 +11,15 @@
 //! - [`LensTracer::trace_from_sensor`]: a camera ray from a point on the sensor toward the rear
 //!   element, back out into the scene (the direction pbrt's realistic camera traces), with the
 //!   Mueller matrix of the light's path from the scene to the sensor and, optionally, ghosts;
-//!   [`LensTracer::trace_lanes_from_sensor`] traces it for several wavelengths at once (no
-//!   ghosts), the same numbers to the bit, faster (the lanes' latency chains overlap).
+//!   [`LensTracer::trace_lanes_from_sensor`] ([`super::lanes`]) traces it for several
+//!   wavelengths at once in SIMD (no ghosts), the same numbers to the bit.
 //!
 //! Cost (issue 40, validation/bench/RESULTS.md): each medium's index is evaluated once per
 //! surface and trace; the path's Mueller matrix is carried row by row (r ← r·Rot·E, the 4×4
 //! products' own arithmetic without their zero terms), only row 0 for unpolarised light
-//! ([`TraceOptions::full_mueller`]).
+//! ([`TraceOptions::full_mueller`]). A render without ghosts traces a camera sample's 8 lanes in
+//! SIMD (`super::lanes`, the same numbers to the bit); this scalar trace is the reference, and
+//! what ghosts, the shared path's hero lane and the analyses use.
 //!
 //! # Ghosts: the branch estimator
 //! At each surface the camera ray either reflects, with probability R (the unpolarised Fresnel
@@ -233,66 +235,9 @@ impl LensTracer {
         path.finish(exit, options)
     }
 
-    /// [`Self::trace_from_sensor`] without ghosts (`options.max_ghost_reflections` is ignored:
-    /// the transmitted branch only) for several wavelengths at once, `lambdas_nm[i]` (nm) into
-    /// `out[i]` (`out` at least as long): the same numbers, to the bit, as a trace per
-    /// wavelength, computed surface by surface for all the wavelengths together, so that the
-    /// processor overlaps their independent chains of divisions and square roots (a lens trace
-    /// is latency-bound: each surface waits on the previous one's refraction).
-    pub fn trace_lanes_from_sensor(
-        &self,
-        sensor_mm: [f64; 2],
-        target_mm: [f64; 2],
-        lambdas_nm: &[f64],
-        options: &TraceOptions,
-        out: &mut [Option<LensSample>],
-    ) {
-        let lanes = lambdas_nm.len().min(MAX_LANES);
-        assert!(out.len() >= lambdas_nm.len() && lambdas_nm.len() <= MAX_LANES, "{} lanes", lambdas_nm.len());
-        let Some(start) = self.camera_ray(sensor_mm, target_mm) else {
-            out[..lanes].fill(None);
-            return;
-        };
-        let options = TraceOptions { max_ghost_reflections: 0, ..*options };
-        let mut rays = [start; MAX_LANES];
-        let mut live = [true; MAX_LANES];
-        let mut paths = [CameraPath::start(start.dir, &options); MAX_LANES];
-        let mut indices: [MediumIndices; MAX_LANES] = std::array::from_fn(|lane| {
-            MediumIndices::new(&self.system, lambdas_nm.get(lane).copied().unwrap_or(0.0))
-        });
-        for at in (0..self.system.surfaces.len()).rev() {
-            for lane in 0..lanes {
-                if !live[lane] {
-                    continue;
-                }
-                let met =
-                    self.meet(at, Heading::ToObject, &rays[lane], &mut indices[lane]).and_then(|meeting| {
-                        let dir_out = refract(
-                            rays[lane].dir,
-                            meeting.facing,
-                            meeting.cos_i,
-                            meeting.n_in / meeting.n_other,
-                        )
-                        .ok_or(Blocked::TotalInternalReflection(at))?;
-                        Ok(meeting.interaction(at, rays[lane].dir, dir_out, false))
-                    });
-                match met {
-                    Ok(interaction) => {
-                        paths[lane].visit(&interaction);
-                        rays[lane] = Ray { origin: interaction.point, dir: interaction.dir_out };
-                    }
-                    Err(_) => live[lane] = false,
-                }
-            }
-        }
-        for lane in 0..lanes {
-            out[lane] = if live[lane] { paths[lane].finish(rays[lane], &options) } else { None };
-        }
-    }
-
     /// The camera ray from the sensor point toward the target on the rear vertex plane, or
     /// `None` when it does not head toward the lens.
-    fn camera_ray(&self, sensor_mm: [f64; 2], target_mm: [f64; 2]) -> Option<Ray> {
+    pub(crate) fn camera_ray(&self, sensor_mm: [f64; 2], target_mm: [f64; 2]) -> Option<Ray> {
         let origin = DVec3::new(sensor_mm[0], sensor_mm[1], self.image_z_mm());
         let target = DVec3::new(target_mm[0], target_mm[1], self.rear_vertex_z_mm());
         let dir = (target - origin).normalize();
