@@ -24,6 +24,7 @@ use super::aabb::Aabb;
 use super::bvh::{Bvh, BvhPrimitive, BvhStats, PACKET_RAYS};
 use super::mesh::flat_hit_record;
 use super::packet::{leaf_lanes, pack_leaf, quad_uv, Lane, Packet, PlanePacket};
+use super::quad_lanes::QuadLanes;
 use super::triangle::{ShearedRay, TriangleHit};
 use super::{Hit, Mesh, Plane, Ray, Shape, Sphere};
 
@@ -99,10 +100,10 @@ struct Few {
     /// Each quad's id, corner and unit normal (`edge1 × edge2` normalised; none is degenerate),
     /// for [`leaves_quad_plane`].
     quads: Vec<(u32, Vec3, Vec3)>,
-    /// The packets (indices into `Geometry::packets`) that hold the quads' halves: every packet
-    /// but the spheres'. The quads are tested there, four halves at a time, with the leaves' own
-    /// test (the scalar test of each half costs more).
-    quad_packets: Vec<u32>,
+    /// The quads' halves, copied from the packets that hold them (every packet but the
+    /// spheres'), all tested in one 16-wide pass (the scalar test of each half costs more, and
+    /// so did the leaves' 4-wide test packet after packet: validation/bench/PROFILE.md).
+    lanes: QuadLanes,
 }
 
 impl Few {
@@ -125,9 +126,12 @@ impl Few {
         if spheres.len() > FEW_SPHERES || quads.len() > FEW_QUADS {
             return None;
         }
-        let quad_packets =
-            (0..packets.len() as u32).filter(|&index| !packets[index as usize].holds_spheres()).collect();
-        Some(Self { spheres, quads, quad_packets })
+        let quad_of = |id: u32| match shapes[id as usize] {
+            Shape::Quad(quad) => quad,
+            _ => unreachable!("quad lanes hold quads"),
+        };
+        let lanes = QuadLanes::of(packets.iter().filter(|packet| !packet.holds_spheres()), quad_of)?;
+        Some(Self { spheres, quads, lanes })
     }
 
     /// Whether every quad but `except` (a shape id, or `u32::MAX` for none) is surely missed by
@@ -239,15 +243,8 @@ impl Geometry {
             }
         }
         if !few.quads_missed(ray, u32::MAX) {
-            let mut sheared = None;
-            let mut quad = None;
-            for &index in &few.quad_packets {
-                if let Some(t) = self.nearest_in_leaf(ray, &mut sheared, index, 1, t_limit, &mut quad) {
-                    t_limit = t;
-                }
-            }
-            if quad.is_some() {
-                return quad.and_then(|quad| self.hit_record(quad));
+            if let Some((lane, hit)) = few.lanes.nearest(&ShearedRay::new(*ray), t_limit) {
+                return Some(few.lanes.hit_record(lane, &hit));
             }
         }
         nearest.or_else(|| plane.map(|plane| plane.record(ray)))
@@ -465,8 +462,7 @@ impl Geometry {
         if few.quads_missed(ray, except) {
             return false;
         }
-        let mut sheared = None;
-        few.quad_packets.iter().any(|&index| self.occluded_in_leaf(ray, &mut sheared, index, 1, t_max))
+        few.lanes.any(&ShearedRay::new(*ray), t_max)
     }
 
     /// [`Self::occluded`] for any scene but a few spheres and planes (kept apart as

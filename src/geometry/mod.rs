@@ -43,6 +43,7 @@ pub(crate) mod huge_pages;
 pub mod mesh;
 pub mod offset;
 mod packet;
+mod quad_lanes;
 pub mod plane;
 pub mod quad;
 pub mod ray;
