@@ -36,6 +36,10 @@ const FEW_SPHERES: usize = 4;
 /// walls and light; 1.12–1.14× less CPU per sample there than through its BVH, same hits:
 /// validation/bench/PROFILE.md). Eight quads are four packets of halves.
 const FEW_QUADS: usize = 8;
+/// At most this many quads are first checked one by one for a ray that surely misses them all
+/// (`Few::quads_missed`): TP6's quad light. The glass-and-mirror room's five quads went 2–3 %
+/// faster without the checks (validation/bench/PROFILE.md).
+const FEW_PLANE_CHECKS: usize = 2;
 /// At most this many infinite planes are tested one by one (more go four at a time, as the
 /// plane packets test them: cheaper for the five planes of a TP6 box).
 const FEW_PLANES: usize = 2;
@@ -135,12 +139,15 @@ impl Few {
     }
 
     /// Whether every quad but `except` (a shape id, or `u32::MAX` for none) is surely missed by
-    /// `ray` ([`leaves_quad_plane`]).
+    /// `ray` ([`leaves_quad_plane`]), checked only for at most [`FEW_PLANE_CHECKS`] quads: for
+    /// more, the checks cost more than the 16-wide test they may save (most rays of a room of
+    /// quads start on one of them, whose plane they do not surely leave).
     #[inline(always)]
     fn quads_missed(&self, ray: &Ray, except: u32) -> bool {
-        self.quads.iter().all(|&(id, corner, normal)| {
-            id == except || leaves_quad_plane(ray.origin, ray.dir, corner, normal)
-        })
+        self.quads.len() <= FEW_PLANE_CHECKS
+            && self.quads.iter().all(|&(id, corner, normal)| {
+                id == except || leaves_quad_plane(ray.origin, ray.dir, corner, normal)
+            })
     }
 }
 
