@@ -4,9 +4,11 @@
 //! Planes are tested first, four at a time (a scene has a handful), so that their hit bounds
 //! the BVH traversal; then the BVH over spheres, quads and triangles. A scene of at most
 //! `FEW_SPHERES` (4) spheres, at most `FEW_QUADS` (8) quads and nothing else finite (the lab and
-//! validation scenes, TP6's quad light, the glass-and-mirror room's four walls and light) skips the BVH: its spheres are tested one after another
-//! and its quads in their packets, unless the ray leaves every quad's plane, which finds the same
-//! hits for about half the instructions; so are the planes of any scene with at most `FEW_PLANES` (2). Each ray is prepared once
+//! validation scenes, TP6's quad light, the glass-and-mirror room's four walls and light) skips
+//! the BVH: its spheres are tested one after another and the halves of all its quads at once,
+//! sixteen lanes wide (`QuadLanes`), unless there are at most `FEW_PLANE_CHECKS` (2) quads and
+//! the ray leaves every quad's plane, which finds the same hits for about half the instructions;
+//! so are the planes of any scene with at most `FEW_PLANES` (2). Each ray is prepared once
 //! (watertight shear for triangles and quads, inverse direction for the boxes).
 //!
 //! The finite shapes are copied into the BVH's leaves as `Packet`s of four (a quad as its two
@@ -34,7 +36,7 @@ const FEW_SPHERES: usize = 4;
 /// At most this many quads (beside at most [`FEW_SPHERES`] spheres, and no triangle) are tested
 /// one by one: the quad light of a TP6 box, the five quads of the glass-and-mirror room (its
 /// walls and light; 1.12–1.14× less CPU per sample there than through its BVH, same hits:
-/// validation/bench/PROFILE.md). Eight quads are four packets of halves.
+/// validation/bench/PROFILE.md). Eight quads' sixteen halves fill one `QuadLanes`.
 const FEW_QUADS: usize = 8;
 /// At most this many quads are first checked one by one for a ray that surely misses them all
 /// (`Few::quads_missed`): TP6's quad light. The glass-and-mirror room's five quads went 2–3 %
