@@ -794,8 +794,9 @@ mod tests {
         let direct = Geometry::build(shapes, Vec::new());
         assert!(direct.few.is_some(), "six quads and two spheres take the direct path");
         let packets = Geometry { few: None, ..direct.clone() };
-        let corners: Vec<Vec3> =
-            (0..8).map(|c| low + Vec3::new((c & 1) as f32, ((c >> 1) & 1) as f32, (c >> 2) as f32) * size).collect();
+        let corners: Vec<Vec3> = (0..8)
+            .map(|c| low + Vec3::new((c & 1) as f32, ((c >> 1) & 1) as f32, (c >> 2) as f32) * size)
+            .collect();
         let mut rng = Rng::new(5);
         let mut wall_hits = 0;
         for i in 0..40_000 {

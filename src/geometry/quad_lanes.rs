@@ -65,7 +65,10 @@ impl QuadLanes {
     /// The quad halves of `packets`, in packet and lane order (`quad_of(id)` gives the quad of
     /// shape `id`); `None` if they are more than [`LANES`], or if some lane holds anything but a
     /// half of a quad with a normal.
-    pub(crate) fn of<'a>(packets: impl Iterator<Item = &'a Packet>, quad_of: impl Fn(u32) -> Quad) -> Option<Self> {
+    pub(crate) fn of<'a>(
+        packets: impl Iterator<Item = &'a Packet>,
+        quad_of: impl Fn(u32) -> Quad,
+    ) -> Option<Self> {
         let mut rows = [[f32::NAN; LANES]; 9];
         let mut ids = [u32::MAX; LANES];
         let mut halves = [Lane::Empty; LANES];
@@ -83,7 +86,8 @@ impl QuadLanes {
                         rows[3 * v + axis][count] = vertex[axis];
                     }
                 }
-                (ids[count], halves[count], quads[count]) = (packet.id(lane), packet.lane(lane), (quad, normal));
+                (ids[count], halves[count], quads[count]) =
+                    (packet.id(lane), packet.lane(lane), (quad, normal));
                 count += 1;
             }
         }
@@ -213,6 +217,12 @@ impl QuadLanes {
     pub(crate) fn hit_record(&self, lane: usize, hit: &TriangleHit) -> Hit {
         let (u, v) = quad_uv(self.halves[lane], hit);
         let (quad, normal) = &self.quads[lane];
-        Hit { t: hit.t, point: quad.point_at(u, v), normal: *normal, shading_normal: *normal, prim: self.ids[lane] }
+        Hit {
+            t: hit.t,
+            point: quad.point_at(u, v),
+            normal: *normal,
+            shading_normal: *normal,
+            prim: self.ids[lane],
+        }
     }
 }
