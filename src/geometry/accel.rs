@@ -4,9 +4,11 @@
 //! Planes are tested first, four at a time (a scene has a handful), so that their hit bounds
 //! the BVH traversal; then the BVH over spheres, quads and triangles. A scene of at most
 //! `FEW_SPHERES` (4) spheres, at most `FEW_QUADS` (8) quads and nothing else finite (the lab and
-//! validation scenes, TP6's quad light, the glass-and-mirror room's four walls and light) skips the BVH: its spheres are tested one after another
-//! and its quads in their packets, unless the ray leaves every quad's plane, which finds the same
-//! hits for about half the instructions; so are the planes of any scene with at most `FEW_PLANES` (2). Each ray is prepared once
+//! validation scenes, TP6's quad light, the glass-and-mirror room's four walls and light) skips
+//! the BVH: its spheres are tested one after another and the halves of all its quads at once,
+//! sixteen lanes wide (`QuadLanes`), unless there are at most `FEW_PLANE_CHECKS` (2) quads and
+//! the ray leaves every quad's plane, which finds the same hits for about half the instructions;
+//! so are the planes of any scene with at most `FEW_PLANES` (2). Each ray is prepared once
 //! (watertight shear for triangles and quads, inverse direction for the boxes).
 //!
 //! The finite shapes are copied into the BVH's leaves as `Packet`s of four (a quad as its two
@@ -24,6 +26,7 @@ use super::aabb::Aabb;
 use super::bvh::{Bvh, BvhPrimitive, BvhStats, PACKET_RAYS};
 use super::mesh::flat_hit_record;
 use super::packet::{leaf_lanes, pack_leaf, quad_uv, Lane, Packet, PlanePacket};
+use super::quad_lanes::QuadLanes;
 use super::triangle::{ShearedRay, TriangleHit};
 use super::{Hit, Mesh, Plane, Ray, Shape, Sphere};
 
@@ -33,8 +36,12 @@ const FEW_SPHERES: usize = 4;
 /// At most this many quads (beside at most [`FEW_SPHERES`] spheres, and no triangle) are tested
 /// one by one: the quad light of a TP6 box, the five quads of the glass-and-mirror room (its
 /// walls and light; 1.12–1.14× less CPU per sample there than through its BVH, same hits:
-/// validation/bench/PROFILE.md). Eight quads are four packets of halves.
+/// validation/bench/PROFILE.md). Eight quads' sixteen halves fill one `QuadLanes`.
 const FEW_QUADS: usize = 8;
+/// At most this many quads are first checked one by one for a ray that surely misses them all
+/// (`Few::quads_missed`): TP6's quad light. The glass-and-mirror room's five quads went 2–3 %
+/// faster without the checks (validation/bench/PROFILE.md).
+const FEW_PLANE_CHECKS: usize = 2;
 /// At most this many infinite planes are tested one by one (more go four at a time, as the
 /// plane packets test them: cheaper for the five planes of a TP6 box).
 const FEW_PLANES: usize = 2;
@@ -99,10 +106,10 @@ struct Few {
     /// Each quad's id, corner and unit normal (`edge1 × edge2` normalised; none is degenerate),
     /// for [`leaves_quad_plane`].
     quads: Vec<(u32, Vec3, Vec3)>,
-    /// The packets (indices into `Geometry::packets`) that hold the quads' halves: every packet
-    /// but the spheres'. The quads are tested there, four halves at a time, with the leaves' own
-    /// test (the scalar test of each half costs more).
-    quad_packets: Vec<u32>,
+    /// The quads' halves, copied from the packets that hold them (every packet but the
+    /// spheres'), all tested in one 16-wide pass (the scalar test of each half costs more, and
+    /// so did the leaves' 4-wide test packet after packet: validation/bench/PROFILE.md).
+    lanes: QuadLanes,
 }
 
 impl Few {
@@ -125,18 +132,24 @@ impl Few {
         if spheres.len() > FEW_SPHERES || quads.len() > FEW_QUADS {
             return None;
         }
-        let quad_packets =
-            (0..packets.len() as u32).filter(|&index| !packets[index as usize].holds_spheres()).collect();
-        Some(Self { spheres, quads, quad_packets })
+        let quad_of = |id: u32| match shapes[id as usize] {
+            Shape::Quad(quad) => quad,
+            _ => unreachable!("quad lanes hold quads"),
+        };
+        let lanes = QuadLanes::of(packets.iter().filter(|packet| !packet.holds_spheres()), quad_of)?;
+        Some(Self { spheres, quads, lanes })
     }
 
     /// Whether every quad but `except` (a shape id, or `u32::MAX` for none) is surely missed by
-    /// `ray` ([`leaves_quad_plane`]).
+    /// `ray` ([`leaves_quad_plane`]), checked only for at most [`FEW_PLANE_CHECKS`] quads: for
+    /// more, the checks cost more than the 16-wide test they may save (most rays of a room of
+    /// quads start on one of them, whose plane they do not surely leave).
     #[inline(always)]
     fn quads_missed(&self, ray: &Ray, except: u32) -> bool {
-        self.quads.iter().all(|&(id, corner, normal)| {
-            id == except || leaves_quad_plane(ray.origin, ray.dir, corner, normal)
-        })
+        self.quads.len() <= FEW_PLANE_CHECKS
+            && self.quads.iter().all(|&(id, corner, normal)| {
+                id == except || leaves_quad_plane(ray.origin, ray.dir, corner, normal)
+            })
     }
 }
 
@@ -239,15 +252,8 @@ impl Geometry {
             }
         }
         if !few.quads_missed(ray, u32::MAX) {
-            let mut sheared = None;
-            let mut quad = None;
-            for &index in &few.quad_packets {
-                if let Some(t) = self.nearest_in_leaf(ray, &mut sheared, index, 1, t_limit, &mut quad) {
-                    t_limit = t;
-                }
-            }
-            if quad.is_some() {
-                return quad.and_then(|quad| self.hit_record(quad));
+            if let Some((lane, hit)) = few.lanes.nearest(&ShearedRay::new(*ray), t_limit) {
+                return Some(few.lanes.hit_record(lane, &hit));
             }
         }
         nearest.or_else(|| plane.map(|plane| plane.record(ray)))
@@ -465,8 +471,7 @@ impl Geometry {
         if few.quads_missed(ray, except) {
             return false;
         }
-        let mut sheared = None;
-        few.quad_packets.iter().any(|&index| self.occluded_in_leaf(ray, &mut sheared, index, 1, t_max))
+        few.lanes.any(&ShearedRay::new(*ray), t_max)
     }
 
     /// [`Self::occluded`] for any scene but a few spheres and planes (kept apart as
@@ -762,6 +767,60 @@ mod tests {
         }
         // Any triangle keeps the packets and the BVH.
         assert!(random_soup(&mut rng, 30).few.is_none());
+    }
+
+    #[test]
+    fn a_closed_box_of_quads_leaks_at_no_edge_or_corner() {
+        // A closed box of six quads (the glass-and-mirror room's walls, closed, at its
+        // coordinates) and two spheres inside, tested directly (all the quads' halves in one
+        // 16-wide pass): rays from inside aimed exactly at the box's twelve edges and eight
+        // corners, and at the quads' diagonals, must all hit a wall (a miss is light leaking
+        // through a seam; the quads share their corners exactly, which the watertight test needs)
+        // and find, bit for bit, what the 4-wide packets and a linear scan find.
+        let (low, high) = (Vec3::new(-3.0, 0.0, -4.0), Vec3::new(3.0, 3.5, 6.0));
+        let size = high - low;
+        let (x, y, z) = (Vec3::X * size.x, Vec3::Y * size.y, Vec3::Z * size.z);
+        let walls = [
+            Quad { corner: low, edge1: x, edge2: z },
+            Quad { corner: low + y, edge1: z, edge2: x },
+            Quad { corner: low, edge1: y, edge2: x },
+            Quad { corner: low + z, edge1: x, edge2: y },
+            Quad { corner: low, edge1: z, edge2: y },
+            Quad { corner: low + x, edge1: y, edge2: z },
+        ];
+        let mut shapes: Vec<Shape> = walls.iter().map(|&quad| Shape::Quad(quad)).collect();
+        shapes.push(Shape::Sphere(Sphere { center: Vec3::new(1.1, 0.8, 3.0), radius: 0.8 }));
+        shapes.push(Shape::Sphere(Sphere { center: Vec3::new(-1.1, 0.8, 3.4), radius: 0.8 }));
+        let direct = Geometry::build(shapes, Vec::new());
+        assert!(direct.few.is_some(), "six quads and two spheres take the direct path");
+        let packets = Geometry { few: None, ..direct.clone() };
+        let corners: Vec<Vec3> = (0..8)
+            .map(|c| low + Vec3::new((c & 1) as f32, ((c >> 1) & 1) as f32, (c >> 2) as f32) * size)
+            .collect();
+        let mut rng = Rng::new(5);
+        let mut wall_hits = 0;
+        for i in 0..40_000 {
+            let origin = rng.point_in(low + Vec3::splat(0.01), high - Vec3::splat(0.01));
+            let a = corners[rng.uniform(0.0, 8.0) as usize];
+            let target = match i % 3 {
+                // A corner.
+                0 => a,
+                // A point of an edge (or of a face's diagonal: both end on corners).
+                _ => a + rng.uniform(0.0, 1.0) * (corners[rng.uniform(0.0, 8.0) as usize] - a),
+            };
+            let Some(dir) = (target - origin).try_normalize() else { continue };
+            let ray = Ray::new(origin, dir);
+            let hit = direct.intersect(&ray, f32::INFINITY).unwrap_or_else(|| panic!("{ray:?} leaks"));
+            assert_eq!(Some(hit), packets.intersect(&ray, f32::INFINITY), "ray {ray:?}");
+            assert_eq!(Some(hit), linear_scan(&direct, &ray, f32::INFINITY), "ray {ray:?}");
+            wall_hits += usize::from(hit.prim < 6);
+            // Shadow rays to the targets stopped short of them, as the integrators stop theirs.
+            let reach = (target - origin).length() * (1.0 - 1e-4);
+            assert_eq!(direct.occluded(&ray, reach), packets.occluded(&ray, reach), "ray {ray:?}");
+        }
+        // The spheres hide the targets from about 14 % of the origins (34,448 rays reach a wall
+        // with this seed); far fewer would mean the rays do not test the seams.
+        assert!(wall_hits > 30_000, "only {wall_hits} rays reached a wall");
     }
 
     /// Every spawned ray is checked against the primitive it starts on: planar primitives must

@@ -28,10 +28,11 @@
 //! * **Numerically careful spheres** (*Ray Tracing Gems* ch. 7): small spheres far away stay
 //!   round.
 //! * **Several at a time, decided exactly**: BVH nodes test eight boxes and leaf packets four
-//!   triangles in one go; the 4-wide triangle test repeats the scalar watertight test's
-//!   arithmetic operation for operation, and leaves the lanes it cannot decide (an edge
-//!   function of exactly 0) to the scalar test, so hits (and their error bounds) are exactly
-//!   those of the shapes' own routines.
+//!   triangles in one go (a scene of at most eight quads and four spheres tests all its quads'
+//!   halves in one 16-wide pass, `quad_lanes`); the 4- and 16-wide triangle tests repeat the
+//!   scalar watertight test's arithmetic operation for operation, and leave the lanes they
+//!   cannot decide (an edge function of exactly 0) to the scalar test, so hits (and their error
+//!   bounds) are exactly those of the shapes' own routines.
 //! * **Hit records are built once per ray**: the nearest-hit search keeps the distance and
 //!   barycentrics of the best candidate and builds the [`Hit`] (normals, point) for the one it
 //!   returns, with the shapes' own code.
@@ -45,6 +46,7 @@ pub mod offset;
 mod packet;
 pub mod plane;
 pub mod quad;
+mod quad_lanes;
 pub mod ray;
 mod rounding;
 pub mod shape;

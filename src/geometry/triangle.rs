@@ -212,6 +212,23 @@ impl BoundLanes for glam::Vec4 {
     }
 }
 
+impl BoundLanes for wide::f32x16 {
+    #[inline(always)]
+    fn splat(value: f32) -> Self {
+        wide::f32x16::splat(value)
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        wide::f32x16::abs(self)
+    }
+    /// The plain vector maximum (no NaN handling: the bound is used only where every value is
+    /// finite, and there it equals f32's).
+    #[inline(always)]
+    fn max(self, other: Self) -> Self {
+        wide::f32x16::fast_max(self, other)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,0 +1,228 @@
+//! [`QuadLanes`]: the two triangles of each of up to eight quads in the sixteen lanes of one
+//! vector, so that a ray tests every quad of a small scene (the glass-and-mirror room's walls and
+//! light, TP6's quad light) in one pass.
+//!
+//! The test is [`super::packet::Packet::test`]'s, sixteen lanes wide instead of four: lane by
+//! lane the same f32 operations of [`intersect_triangle`] in the same order (translation, shear,
+//! edge functions, determinant, scaled distance and its range check, the division and the
+//! distance's error bound), so it rejects exactly what the scalar test rejects and returns its
+//! hits bit for bit; lanes with an edge function of exactly 0 are left to [`intersect_triangle`]
+//! itself, which recomputes it in f64. Watertightness along the quads' shared edges and the
+//! conservative distance bound are therefore those of the scalar test. The lanes keep the order
+//! of the 4-wide packets they are copied from, so that among hits at equal distances the search
+//! keeps the same one. Unused lanes hold NaN, which fails every comparison.
+//!
+//! Each lane also keeps its quad's corner, edges and unit normal (`edge1 × edge2` normalised, as
+//! [`Quad::hit_record`] computes it on every call), so that the hit record of the nearest hit
+//! needs neither the shape list nor a square root.
+
+use glam::Vec3;
+use wide::f32x16;
+
+use super::packet::{quad_uv, Lane, Packet, LANES as PACKET_LANES};
+use super::triangle::{distance_error_bound, intersect_triangle, ShearedRay, TriangleHit};
+use super::{Hit, Quad};
+
+/// Quad halves tested at once: eight quads.
+pub(crate) const LANES: usize = 16;
+
+/// The halves of up to eight quads, by coordinate ("structure of arrays"): 1.7 kB.
+#[derive(Clone, Debug)]
+pub(crate) struct QuadLanes {
+    /// Rows 0–2: x, y, z of each half's first vertex; 3–5 of its second; 6–8 of its third.
+    rows: [f32x16; 9],
+    /// Each lane's shape index (in the list given to [`super::Geometry::build`]).
+    ids: [u32; LANES],
+    /// Each lane's half (lower or upper, as [`quad_uv`] reads it).
+    halves: [Lane; LANES],
+    /// Each lane's quad and its unit normal, for the hit record.
+    quads: [(Quad, Vec3); LANES],
+    /// The lanes in use.
+    used: u32,
+}
+
+/// What [`QuadLanes::test`] decided for one ray: [`super::packet::PacketTest`], sixteen wide.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct LanesTest {
+    /// Lanes that only [`intersect_triangle`] can decide (an edge function rounded to 0).
+    pub(crate) undecided: u32,
+    /// Lanes that [`intersect_triangle`] hits, with the hit of [`Self::hit`].
+    pub(crate) hits: u32,
+    t: f32x16,
+    barycentric: [f32x16; 3],
+}
+
+impl LanesTest {
+    /// The hit on lane `lane` (one of [`Self::hits`]): bit for bit what [`intersect_triangle`]
+    /// returns.
+    #[inline]
+    pub(crate) fn hit(&self, lane: usize) -> TriangleHit {
+        TriangleHit { t: self.t.as_array()[lane], barycentric: self.barycentric.map(|b| b.as_array()[lane]) }
+    }
+}
+
+impl QuadLanes {
+    /// The quad halves of `packets`, in packet and lane order (`quad_of(id)` gives the quad of
+    /// shape `id`); `None` if they are more than [`LANES`], or if some lane holds anything but a
+    /// half of a quad with a normal.
+    pub(crate) fn of<'a>(
+        packets: impl Iterator<Item = &'a Packet>,
+        quad_of: impl Fn(u32) -> Quad,
+    ) -> Option<Self> {
+        let mut rows = [[f32::NAN; LANES]; 9];
+        let mut ids = [u32::MAX; LANES];
+        let mut halves = [Lane::Empty; LANES];
+        let mut quads = [(Quad { corner: Vec3::NAN, edge1: Vec3::NAN, edge2: Vec3::NAN }, Vec3::NAN); LANES];
+        let mut count = 0;
+        for packet in packets {
+            for lane in (0..PACKET_LANES).filter(|&lane| packet.lane(lane) != Lane::Empty) {
+                if !matches!(packet.lane(lane), Lane::QuadLower | Lane::QuadUpper) || count == LANES {
+                    return None;
+                }
+                let quad = quad_of(packet.id(lane));
+                let normal = quad.edge1.cross(quad.edge2).try_normalize()?;
+                for (v, vertex) in packet.vertices(lane).iter().enumerate() {
+                    for axis in 0..3 {
+                        rows[3 * v + axis][count] = vertex[axis];
+                    }
+                }
+                (ids[count], halves[count], quads[count]) =
+                    (packet.id(lane), packet.lane(lane), (quad, normal));
+                count += 1;
+            }
+        }
+        let used = if count == LANES { u32::MAX >> 16 } else { (1 << count) - 1 };
+        Some(Self { rows: rows.map(f32x16::new), ids, halves, quads, used })
+    }
+
+    /// The 16-wide test against `ray` for hits with t in (0, `t_max`): the lanes that
+    /// [`intersect_triangle`] hits, with their hits, and the lanes only it can decide; it surely
+    /// misses every other lane (see the module notes). Each line repeats the operation of
+    /// [`intersect_triangle`] (and of [`Packet::test`]) it is named after, with the same
+    /// operands in the same order.
+    #[inline(always)]
+    pub(crate) fn test(&self, ray: &ShearedRay, t_max: f32) -> LanesTest {
+        let ([kx, ky, kz], origin, shear) = ray.parts();
+        // Always true (the axes are a permutation of 0, 1, 2); stated so that the row indices
+        // below need no bounds checks.
+        assert!(kx < 3 && ky < 3 && kz < 3);
+        let [origin_x, origin_y, origin_z] = origin.map(f32x16::splat);
+        let [shear_x, shear_y, shear_z] = shear.map(f32x16::splat);
+        let rows = &self.rows;
+        let relative = |vertex: usize| {
+            let z = rows[3 * vertex + kz] - origin_z;
+            (
+                (rows[3 * vertex + kx] - origin_x) + shear_x * z,
+                (rows[3 * vertex + ky] - origin_y) + shear_y * z,
+                z,
+            )
+        };
+        let (ax, ay, a_z) = relative(0);
+        let (bx, by, b_z) = relative(1);
+        let (cx, cy, c_z) = relative(2);
+        // edge_function(c, b), edge_function(a, c), edge_function(b, a).
+        let e0 = cx * by - cy * bx;
+        let e1 = ax * cy - ay * cx;
+        let e2 = bx * ay - by * ax;
+        let zero = f32x16::ZERO;
+        let any_zero = e0.simd_eq(zero) | e1.simd_eq(zero) | e2.simd_eq(zero);
+        let any_negative = e0.simd_lt(zero) | e1.simd_lt(zero) | e2.simd_lt(zero);
+        let any_positive = e0.simd_gt(zero) | e1.simd_gt(zero) | e2.simd_gt(zero);
+        let det = e0 + e1 + e2;
+        let z = [shear_z * a_z, shear_z * b_z, shear_z * c_z];
+        let t_scaled = e0 * z[0] + e1 * z[1] + e2 * z[2];
+        let limit = f32x16::splat(t_max) * det;
+        let positive = det.simd_gt(zero);
+        let in_range_positive = positive & t_scaled.simd_gt(zero) & t_scaled.simd_lt(limit);
+        let in_range_negative = !positive & t_scaled.simd_lt(zero) & t_scaled.simd_gt(limit);
+        let in_range = in_range_positive | in_range_negative;
+        let decided = !(any_negative & any_positive) & det.simd_ne(zero) & in_range;
+        // Lanes with an edge function of exactly 0 go to the scalar test, which recomputes it
+        // in f64; the others are decided here. (NaN lanes compare false everywhere.)
+        let undecided = any_zero.to_bitmask() & self.used;
+        let passed = (decided & !any_zero).to_bitmask() & self.used;
+        let mut test = LanesTest { undecided, hits: 0, t: zero, barycentric: [zero; 3] };
+        if passed == 0 {
+            return test;
+        }
+        // The rest of `intersect_triangle` for the lanes that passed: the division, and the
+        // distance against t_max and its error bound.
+        let inv_det = f32x16::ONE / det;
+        let t = t_scaled * inv_det;
+        let bound = distance_error_bound(&[(ax, ay), (bx, by), (cx, cy)], &z, &[e0, e1, e2], inv_det);
+        let accepted = t.simd_lt(f32x16::splat(t_max)) & t.simd_gt(bound);
+        test.hits = passed & accepted.to_bitmask();
+        test.t = t;
+        test.barycentric = [e0 * inv_det, e1 * inv_det, e2 * inv_det];
+        test
+    }
+
+    /// The exact test of a candidate lane: [`intersect_triangle`] on its vertices.
+    #[inline]
+    pub(crate) fn intersect_lane(&self, lane: usize, ray: &ShearedRay, t_max: f32) -> Option<TriangleHit> {
+        let at = |row: usize| self.rows[row].as_array()[lane];
+        let vertices = std::array::from_fn(|v| Vec3::new(at(3 * v), at(3 * v + 1), at(3 * v + 2)));
+        intersect_triangle(ray, &vertices, t_max)
+    }
+
+    /// The nearest hit with t in (0, `t_limit`) among the lanes, as (lane, hit): what testing the
+    /// 4-wide packets one after another with a shrinking limit finds (the first of equal
+    /// distances). A lane the wide test hits keeps its hit while the limit it was tested against
+    /// stands; after a closer hit, the scalar test decides at the new limit, as it would lane
+    /// by lane (a lane missed at a limit is missed at every smaller one: each check is monotone
+    /// in the limit).
+    #[inline(always)]
+    pub(crate) fn nearest(&self, ray: &ShearedRay, mut t_limit: f32) -> Option<(usize, TriangleHit)> {
+        let test = self.test(ray, t_limit);
+        let tested_limit = t_limit;
+        let mut nearest = None;
+        let mut candidates = test.hits | test.undecided;
+        while candidates != 0 {
+            let lane = candidates.trailing_zeros() as usize;
+            candidates &= candidates - 1;
+            let hit = if test.hits & (1 << lane) != 0 && t_limit == tested_limit {
+                Some(test.hit(lane))
+            } else {
+                self.intersect_lane(lane, ray, t_limit)
+            };
+            if let Some(hit) = hit {
+                t_limit = hit.t;
+                nearest = Some((lane, hit));
+            }
+        }
+        nearest
+    }
+
+    /// Whether some lane is hit with t in (0, `t_max`).
+    #[inline(always)]
+    pub(crate) fn any(&self, ray: &ShearedRay, t_max: f32) -> bool {
+        let test = self.test(ray, t_max);
+        if test.hits != 0 {
+            return true;
+        }
+        let mut undecided = test.undecided;
+        while undecided != 0 {
+            let lane = undecided.trailing_zeros() as usize;
+            undecided &= undecided - 1;
+            if self.intersect_lane(lane, ray, t_max).is_some() {
+                return true;
+            }
+        }
+        false
+    }
+
+    /// The hit record of `hit` on lane `lane`: [`Quad::hit_record`]'s, bit for bit (the same
+    /// point, the normal it computes, kept here).
+    #[inline]
+    pub(crate) fn hit_record(&self, lane: usize, hit: &TriangleHit) -> Hit {
+        let (u, v) = quad_uv(self.halves[lane], hit);
+        let (quad, normal) = &self.quads[lane];
+        Hit {
+            t: hit.t,
+            point: quad.point_at(u, v),
+            normal: *normal,
+            shading_normal: *normal,
+            prim: self.ids[lane],
+        }
+    }
+}
