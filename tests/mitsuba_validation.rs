@@ -78,6 +78,7 @@ fn wrong_renderers_fail() {
         ("stokes_room_path_caustics", Fault::CausticsCountedTwice),
         ("stokes_room_path_caustics", Fault::CausticsCountedNever),
         ("transport_room_spot", Fault::CausticsCountedNever),
+        ("transport_room_spot_polarised", Fault::CausticsCountedNever),
     ] {
         let (result, _) = run_case(&validation_dir(), find(name), &options(Some(fault))).unwrap();
         report(&format!("{name} with {fault:?}"), &result);
