@@ -54,6 +54,7 @@ pub mod sphere;
 #[cfg(test)]
 mod test_util;
 pub mod triangle;
+mod triangle_lanes;
 
 pub use aabb::Aabb;
 pub use accel::Geometry;

@@ -23,7 +23,8 @@
 use glam::{BVec4A, Vec3, Vec4};
 
 use super::rounding::gamma;
-use super::triangle::{distance_error_bound, intersect_triangle, ShearedRay, TriangleHit};
+use super::triangle::{intersect_triangle, ShearedRay, TriangleHit};
+use super::triangle_lanes::{test_triangles, LanesTest};
 use super::{Plane, Quad, Ray, Sphere};
 
 /// Shapes per packet.
@@ -112,60 +113,7 @@ impl Packet {
     /// same operands in the same order.
     #[inline(always)]
     pub(crate) fn test(&self, ray: &ShearedRay, t_max: f32) -> PacketTest {
-        let ([kx, ky, kz], origin, shear) = ray.parts();
-        // Always true (the axes are a permutation of 0, 1, 2); stated so that the row indices
-        // below need no bounds checks.
-        assert!(kx < 3 && ky < 3 && kz < 3);
-        let [origin_x, origin_y, origin_z] = origin.map(Vec4::splat);
-        let [shear_x, shear_y, shear_z] = shear.map(Vec4::splat);
-        let rows = &self.rows;
-        // `relative`: the sheared 2D position (x, y) and the translated z of each vertex.
-        let relative = |vertex: usize| {
-            let z = rows[3 * vertex + kz] - origin_z;
-            (
-                (rows[3 * vertex + kx] - origin_x) + shear_x * z,
-                (rows[3 * vertex + ky] - origin_y) + shear_y * z,
-                z,
-            )
-        };
-        let (ax, ay, a_z) = relative(0);
-        let (bx, by, b_z) = relative(1);
-        let (cx, cy, c_z) = relative(2);
-        // edge_function(c, b), edge_function(a, c), edge_function(b, a).
-        let e0 = cx * by - cy * bx;
-        let e1 = ax * cy - ay * cx;
-        let e2 = bx * ay - by * ax;
-        let zero = Vec4::ZERO;
-        let any_zero = e0.cmpeq(zero) | e1.cmpeq(zero) | e2.cmpeq(zero);
-        let any_negative = e0.cmplt(zero) | e1.cmplt(zero) | e2.cmplt(zero);
-        let any_positive = e0.cmpgt(zero) | e1.cmpgt(zero) | e2.cmpgt(zero);
-        let det = e0 + e1 + e2;
-        let z = [shear_z * a_z, shear_z * b_z, shear_z * c_z];
-        let t_scaled = e0 * z[0] + e1 * z[1] + e2 * z[2];
-        let limit = Vec4::splat(t_max) * det;
-        let positive = det.cmpgt(zero);
-        let in_range_positive = positive & t_scaled.cmpgt(zero) & t_scaled.cmplt(limit);
-        let in_range_negative = !positive & t_scaled.cmplt(zero) & t_scaled.cmpgt(limit);
-        let in_range = in_range_positive | in_range_negative;
-        let decided = !(any_negative & any_positive) & det.cmpne(zero) & in_range;
-        // Lanes with an edge function of exactly 0 go to the scalar test, which recomputes it
-        // in f64; the others are decided here.
-        let undecided = any_zero.bitmask();
-        let passed = (decided & !any_zero).bitmask();
-        let mut test = PacketTest { undecided, hits: 0, t: zero, barycentric: [zero; 3] };
-        if passed == 0 {
-            return test;
-        }
-        // The rest of `intersect_triangle` for the lanes that passed: the division, and the
-        // distance against t_max and its error bound.
-        let inv_det = Vec4::ONE / det;
-        let t = t_scaled * inv_det;
-        let bound = distance_error_bound(&[(ax, ay), (bx, by), (cx, cy)], &z, &[e0, e1, e2], inv_det);
-        let accepted = t.cmplt(Vec4::splat(t_max)) & t.cmpgt(bound);
-        test.hits = passed & accepted.bitmask();
-        test.t = t;
-        test.barycentric = [e0 * inv_det, e1 * inv_det, e2 * inv_det];
-        test
+        test_triangles(&self.rows, u32::MAX, ray, t_max)
     }
 
     /// The exact test of a candidate lane: [`intersect_triangle`] on its vertices.
@@ -176,24 +124,7 @@ impl Packet {
 }
 
 /// What [`Packet::test`] decided for one ray.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct PacketTest {
-    /// Lanes that only [`intersect_triangle`] can decide (an edge function rounded to 0).
-    pub(crate) undecided: u32,
-    /// Lanes that [`intersect_triangle`] hits, with the hit of [`Self::hit`].
-    pub(crate) hits: u32,
-    t: Vec4,
-    barycentric: [Vec4; 3],
-}
-
-impl PacketTest {
-    /// The hit on lane `lane` (one of [`Self::hits`]): bit for bit what [`intersect_triangle`]
-    /// returns.
-    #[inline]
-    pub(crate) fn hit(&self, lane: usize) -> TriangleHit {
-        TriangleHit { t: self.t[lane], barycentric: self.barycentric.map(|b| b[lane]) }
-    }
-}
+pub(crate) type PacketTest = LanesTest<Vec4>;
 
 /// Up to four infinite planes, tested together: 112 bytes.
 ///

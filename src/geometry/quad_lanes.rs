@@ -20,7 +20,8 @@ use glam::Vec3;
 use wide::f32x16;
 
 use super::packet::{quad_uv, Lane, Packet, LANES as PACKET_LANES};
-use super::triangle::{distance_error_bound, intersect_triangle, ShearedRay, TriangleHit};
+use super::triangle::{intersect_triangle, ShearedRay, TriangleHit};
+use super::triangle_lanes::{test_triangles, LanesTest};
 use super::{Hit, Quad};
 
 /// Quad halves tested at once: eight quads.
@@ -41,25 +42,8 @@ pub(crate) struct QuadLanes {
     used: u32,
 }
 
-/// What [`QuadLanes::test`] decided for one ray: [`super::packet::PacketTest`], sixteen wide.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct LanesTest {
-    /// Lanes that only [`intersect_triangle`] can decide (an edge function rounded to 0).
-    pub(crate) undecided: u32,
-    /// Lanes that [`intersect_triangle`] hits, with the hit of [`Self::hit`].
-    pub(crate) hits: u32,
-    t: f32x16,
-    barycentric: [f32x16; 3],
-}
-
-impl LanesTest {
-    /// The hit on lane `lane` (one of [`Self::hits`]): bit for bit what [`intersect_triangle`]
-    /// returns.
-    #[inline]
-    pub(crate) fn hit(&self, lane: usize) -> TriangleHit {
-        TriangleHit { t: self.t.as_array()[lane], barycentric: self.barycentric.map(|b| b.as_array()[lane]) }
-    }
-}
+/// What [`QuadLanes::test`] decided for one ray.
+pub(crate) type QuadLanesTest = LanesTest<f32x16>;
 
 impl QuadLanes {
     /// The quad halves of `packets`, in packet and lane order (`quad_of(id)` gives the quad of
@@ -101,60 +85,8 @@ impl QuadLanes {
     /// [`intersect_triangle`] (and of [`Packet::test`]) it is named after, with the same
     /// operands in the same order.
     #[inline(always)]
-    pub(crate) fn test(&self, ray: &ShearedRay, t_max: f32) -> LanesTest {
-        let ([kx, ky, kz], origin, shear) = ray.parts();
-        // Always true (the axes are a permutation of 0, 1, 2); stated so that the row indices
-        // below need no bounds checks.
-        assert!(kx < 3 && ky < 3 && kz < 3);
-        let [origin_x, origin_y, origin_z] = origin.map(f32x16::splat);
-        let [shear_x, shear_y, shear_z] = shear.map(f32x16::splat);
-        let rows = &self.rows;
-        let relative = |vertex: usize| {
-            let z = rows[3 * vertex + kz] - origin_z;
-            (
-                (rows[3 * vertex + kx] - origin_x) + shear_x * z,
-                (rows[3 * vertex + ky] - origin_y) + shear_y * z,
-                z,
-            )
-        };
-        let (ax, ay, a_z) = relative(0);
-        let (bx, by, b_z) = relative(1);
-        let (cx, cy, c_z) = relative(2);
-        // edge_function(c, b), edge_function(a, c), edge_function(b, a).
-        let e0 = cx * by - cy * bx;
-        let e1 = ax * cy - ay * cx;
-        let e2 = bx * ay - by * ax;
-        let zero = f32x16::ZERO;
-        let any_zero = e0.simd_eq(zero) | e1.simd_eq(zero) | e2.simd_eq(zero);
-        let any_negative = e0.simd_lt(zero) | e1.simd_lt(zero) | e2.simd_lt(zero);
-        let any_positive = e0.simd_gt(zero) | e1.simd_gt(zero) | e2.simd_gt(zero);
-        let det = e0 + e1 + e2;
-        let z = [shear_z * a_z, shear_z * b_z, shear_z * c_z];
-        let t_scaled = e0 * z[0] + e1 * z[1] + e2 * z[2];
-        let limit = f32x16::splat(t_max) * det;
-        let positive = det.simd_gt(zero);
-        let in_range_positive = positive & t_scaled.simd_gt(zero) & t_scaled.simd_lt(limit);
-        let in_range_negative = !positive & t_scaled.simd_lt(zero) & t_scaled.simd_gt(limit);
-        let in_range = in_range_positive | in_range_negative;
-        let decided = !(any_negative & any_positive) & det.simd_ne(zero) & in_range;
-        // Lanes with an edge function of exactly 0 go to the scalar test, which recomputes it
-        // in f64; the others are decided here. (NaN lanes compare false everywhere.)
-        let undecided = any_zero.to_bitmask() & self.used;
-        let passed = (decided & !any_zero).to_bitmask() & self.used;
-        let mut test = LanesTest { undecided, hits: 0, t: zero, barycentric: [zero; 3] };
-        if passed == 0 {
-            return test;
-        }
-        // The rest of `intersect_triangle` for the lanes that passed: the division, and the
-        // distance against t_max and its error bound.
-        let inv_det = f32x16::ONE / det;
-        let t = t_scaled * inv_det;
-        let bound = distance_error_bound(&[(ax, ay), (bx, by), (cx, cy)], &z, &[e0, e1, e2], inv_det);
-        let accepted = t.simd_lt(f32x16::splat(t_max)) & t.simd_gt(bound);
-        test.hits = passed & accepted.to_bitmask();
-        test.t = t;
-        test.barycentric = [e0 * inv_det, e1 * inv_det, e2 * inv_det];
-        test
+    pub(crate) fn test(&self, ray: &ShearedRay, t_max: f32) -> QuadLanesTest {
+        test_triangles(&self.rows, self.used, ray, t_max)
     }
 
     /// The exact test of a candidate lane: [`intersect_triangle`] on its vertices.
