@@ -545,17 +545,8 @@ impl Geometry {
                 continue;
             }
             let sheared = sheared.get_or_insert_with(|| ShearedRay::new(*ray));
-            let test = packet.test(sheared, t_max);
-            if test.hits != 0 {
+            if packet.test(sheared, t_max).any(|lane| packet.intersect_lane(lane, sheared, t_max).is_some()) {
                 return true;
-            }
-            let mut undecided = test.undecided;
-            while undecided != 0 {
-                let lane = undecided.trailing_zeros() as usize;
-                undecided &= undecided - 1;
-                if packet.intersect_lane(lane, sheared, t_max).is_some() {
-                    return true;
-                }
             }
         }
         false

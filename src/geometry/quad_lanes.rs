@@ -128,19 +128,7 @@ impl QuadLanes {
     /// Whether some lane is hit with t in (0, `t_max`).
     #[inline(always)]
     pub(crate) fn any(&self, ray: &ShearedRay, t_max: f32) -> bool {
-        let test = self.test(ray, t_max);
-        if test.hits != 0 {
-            return true;
-        }
-        let mut undecided = test.undecided;
-        while undecided != 0 {
-            let lane = undecided.trailing_zeros() as usize;
-            undecided &= undecided - 1;
-            if self.intersect_lane(lane, ray, t_max).is_some() {
-                return true;
-            }
-        }
-        false
+        self.test(ray, t_max).any(|lane| self.intersect_lane(lane, ray, t_max).is_some())
     }
 
     /// The hit record of `hit` on lane `lane`: [`Quad::hit_record`]'s, bit for bit (the same

@@ -114,6 +114,24 @@ impl<T: TriangleLanes> LanesTest<T> {
     pub(crate) fn hit(&self, lane: usize) -> TriangleHit {
         TriangleHit { t: self.t.lane(lane), barycentric: self.barycentric.map(|b| b.lane(lane)) }
     }
+
+    /// Whether some lane is hit: one the test decided, or an undecided one that `exact` (the
+    /// scalar test of that lane) hits.
+    #[inline(always)]
+    pub(crate) fn any(&self, mut exact: impl FnMut(usize) -> bool) -> bool {
+        if self.hits != 0 {
+            return true;
+        }
+        let mut undecided = self.undecided;
+        while undecided != 0 {
+            let lane = undecided.trailing_zeros() as usize;
+            undecided &= undecided - 1;
+            if exact(lane) {
+                return true;
+            }
+        }
+        false
+    }
 }
 
 /// The test of the triangles in `rows` (rows 0–2: x, y, z of each lane's first vertex, 3–5 of
