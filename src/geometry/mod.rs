@@ -31,9 +31,9 @@
 //!   triangles in one go (a scene of at most eight quads and four spheres tests all its quads'
 //!   halves in one 16-wide pass, `quad_lanes`); the 4- and 16-wide triangle tests are one
 //!   generic test (`triangle_lanes`) that repeats the scalar watertight test's arithmetic
-//!   operation for operation, and leave the lanes they
-//!   cannot decide (an edge function of exactly 0) to the scalar test, so hits (and their error
-//!   bounds) are exactly those of the shapes' own routines.
+//!   operation for operation and leaves the lanes it cannot decide (an edge function of
+//!   exactly 0) to the scalar test, so hits (and their error bounds) are exactly those of the
+//!   shapes' own routines.
 //! * **Hit records are built once per ray**: the nearest-hit search keeps the distance and
 //!   barycentrics of the best candidate and builds the [`Hit`] (normals, point) for the one it
 //!   returns, with the shapes' own code.
