@@ -423,7 +423,8 @@ impl<'a> PathTracer<'a> {
                 // would have drawn this direction: over the whole distance from the diffuse
                 // vertex (the last segment alone is shorter when the path crossed a sheet).
                 let distance_squared = (hit.point - from).length_squared();
-                let light_pdf = quad.density(from, self.area_light_samples, distance_squared, cos_light);
+                let light_pdf =
+                    self.area_light_samples as f32 * distance_squared / (quad.quad.area() * cos_light);
                 power_heuristic(pdf, light_pdf)
             }
         }
@@ -509,9 +510,7 @@ impl<'a> PathTracer<'a> {
                     let count = self.area_light_samples;
                     let shift = quad_u.take().unwrap_or_else(|| rng.uniform_2d());
                     for index in 0..count {
-                        let Some(sample) = quad.sample_solid_angle(hit.point, index, count, shift) else {
-                            continue;
-                        };
+                        let Some(sample) = quad.sample(hit.point, index, count, shift) else { continue };
                         let Some((w, s)) = arriving(&sample, shape, stats) else { continue };
                         // `sample.weight` is 1/(n·p_light) per steradian.
                         let mis = if self.fault == Some(Fault::MisWeightsUnnormalized) {

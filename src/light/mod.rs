@@ -6,7 +6,6 @@
 pub mod beam;
 pub mod point;
 pub mod quad;
-pub mod spherical_rectangle;
 pub mod spot;
 
 use glam::Vec3;

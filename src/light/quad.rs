@@ -22,7 +22,6 @@
 
 use glam::Vec3;
 
-use super::spherical_rectangle::SphericalRectangle;
 use super::LightSample;
 use crate::geometry::Quad;
 use crate::spectrum::DenseSpectrum;
@@ -57,62 +56,6 @@ impl QuadLight {
         }
         let solid_angle = self.quad.area() * cos_light / (distance_sq * count as f32);
         Some(LightSample { to_light, distance, weight: solid_angle })
-    }
-
-    /// Sample `index` of `count` stratified points as [`Self::sample`], drawn uniformly in the
-    /// solid angle the quad subtends at `point` ([`SphericalRectangle`]) when it is a
-    /// rectangle, so that each sample's weight is Ω/n whatever the distance and angle; a
-    /// parallelogram that is not a rectangle is sampled by area ([`Self::sample`]).
-    /// [`Self::density`] is the density of the same choice. `None` when the sample faces away
-    /// from `point`.
-    pub fn sample_solid_angle(
-        &self,
-        point: Vec3,
-        index: u32,
-        count: u32,
-        shift: (f32, f32),
-    ) -> Option<LightSample> {
-        if !self.in_front(point) {
-            return None;
-        }
-        let Some(rect) = self.spherical_rectangle(point) else {
-            return self.sample(point, index, count, shift);
-        };
-        let on_light = rect.sample(hammersley(index, count, shift));
-        let offset = on_light - point;
-        let distance_sq = offset.length_squared();
-        if distance_sq <= 0.0 || !distance_sq.is_finite() {
-            return None;
-        }
-        let distance = distance_sq.sqrt();
-        let to_light = offset / distance;
-        if -self.emit_normal.dot(to_light) <= 0.0 {
-            return None;
-        }
-        let solid_angle = (rect.solid_angle() / f64::from(count)) as f32;
-        Some(LightSample { to_light, distance, weight: solid_angle })
-    }
-
-    /// The density per steradian, summed over `count` samples of [`Self::sample_solid_angle`]
-    /// at `point`, of drawing the direction that meets the quad at `on_light` (where the
-    /// direction's cosine with the quad's normal is `cos_light`, and the distance squared is
-    /// `distance_sq`, scene units²): n/Ω for a rectangle, n·d²/(A·cos θ_l) else.
-    pub fn density(&self, point: Vec3, count: u32, distance_sq: f32, cos_light: f32) -> f32 {
-        match self.spherical_rectangle(point) {
-            Some(rect) => (f64::from(count) / rect.solid_angle()) as f32,
-            None => count as f32 * distance_sq / (self.quad.area() * cos_light),
-        }
-    }
-
-    /// The quad as a spherical rectangle seen from `point`, when it is a rectangle.
-    fn spherical_rectangle(&self, point: Vec3) -> Option<SphericalRectangle> {
-        SphericalRectangle::new(point, self.quad.corner, self.quad.edge1, self.quad.edge2)
-    }
-
-    /// True when `point` lies strictly on the emitting side of the quad's plane.
-    #[inline]
-    fn in_front(&self, point: Vec3) -> bool {
-        self.emit_normal.dot(point - self.quad.corner) > 0.0
     }
 
     /// True when a ray travelling along `dir` sees the emitting side.
