@@ -122,14 +122,16 @@ pub(crate) fn concentric_disk_polynomial((u1, u2): (f32, f32)) -> (f32, f32) {
     if a == 0.0 && b == 0.0 {
         return (0.0, 0.0);
     }
-    let quarter = std::f32::consts::FRAC_PI_4;
-    if a.abs() > b.abs() {
-        let (sin, cos) = sin_cos_quarter(quarter * (b / a));
-        (a * cos, a * sin)
+    // The two wedges by selects rather than branches: which one a sample falls in is a coin
+    // toss the processor cannot predict. In the second, φ = π/2 − x: cos φ = sin x, sin φ = cos x.
+    let second = a.abs() <= b.abs();
+    let (r, ratio) = if second { (b, a / b) } else { (a, b / a) };
+    let (sin, cos) = sin_cos_quarter(std::f32::consts::FRAC_PI_4 * ratio);
+    let (x, y) = (r * cos, r * sin);
+    if second {
+        (y, x)
     } else {
-        // φ = π/2 − x: cos φ = sin x, sin φ = cos x.
-        let (sin, cos) = sin_cos_quarter(quarter * (a / b));
-        (b * sin, b * cos)
+        (x, y)
     }
 }
 
