@@ -1,5 +1,5 @@
 //! χ² tests of diffuse sampling (issue 39): Lambert and Oren–Nayar share one sampler,
-//! [`Diffuse::sample`], which draws the cosine density [`Diffuse::pdf`]; the path tracer weights
+//! [`Diffuse::sample`] (and its polynomial twin [`Diffuse::sample_polynomial`]), which draws the cosine density [`Diffuse::pdf`]; the path tracer weights
 //! a sample by f·cos θ/pdf = ρ·[`Diffuse::shape_factor`]. These tests check both halves:
 //!
 //! - **The directions follow the pdf**, by Pearson's χ² goodness-of-fit test as Mitsuba 3 runs it
@@ -43,10 +43,11 @@ const SAMPLES: usize = 1_000_000;
 const POOL_BELOW: f64 = 5.0;
 /// Significance level for all the χ² tests of correct samplers in this file together.
 const SIGNIFICANCE: f64 = 0.01;
-/// The χ² tests of correct samplers in this file: six normals for the sampler, Lambert plus
+/// The χ² tests of correct samplers in this file: six normals for the sampler and six for its
+/// polynomial twin ([`Diffuse::sample_polynomial`], the path tracer's), Lambert plus
 /// Oren–Nayar (σ = 20°, 40°) at three directions of view for the weights (7), and the
 /// negative controls' correct twin (1).
-const CORRECT_TESTS: usize = 6 + 7 + 1;
+const CORRECT_TESTS: usize = 6 + 6 + 7 + 1;
 
 /// The level each single test is held to so that all [`CORRECT_TESTS`] together reject a
 /// correct sampler with probability [`SIGNIFICANCE`] (Šidák: 1 − (1 − α)^(1/m)).
@@ -320,6 +321,21 @@ fn cosine_sampling_passes_chi2_about_several_normals() {
     let level = sidak_level();
     for (i, normal) in normals().into_iter().enumerate() {
         let outcome = chi2_of_sampler(normal, 0xd1ff + i as u64, cosine_sampler);
+        println!(
+            "normal {normal}: χ² = {:.1}, dof {}, p = {:.4}, {} cells pooled",
+            outcome.statistic, outcome.dof, outcome.p_value, outcome.pooled_cells
+        );
+        assert!(outcome.accepted(level), "normal {normal}: {outcome:?} (level {level:.2e})");
+    }
+}
+
+/// The path tracer's bounce, [`Diffuse::sample_polynomial`] (the concentric map's sine and
+/// cosine by polynomials), against the same pdf.
+#[test]
+fn polynomial_cosine_sampling_passes_chi2_about_several_normals() {
+    let level = sidak_level();
+    for (i, normal) in normals().into_iter().enumerate() {
+        let outcome = chi2_of_sampler(normal, 0x9017 + i as u64, |n, u| Diffuse::sample_polynomial(n, u).0);
         println!(
             "normal {normal}: χ² = {:.1}, dof {}, p = {:.4}, {} cells pooled",
             outcome.statistic, outcome.dof, outcome.p_value, outcome.pooled_cells

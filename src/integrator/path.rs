@@ -580,7 +580,7 @@ impl<'a> PathTracer<'a> {
     ) -> bool {
         let to_viewer = -state.ray.dir;
         let (normal, shading_normal) = facing(hit, to_viewer);
-        let (dir, pdf) = Diffuse::sample(shading_normal, u);
+        let (dir, pdf) = Diffuse::sample_polynomial(shading_normal, u);
         let cos_theta = shading_normal.dot(dir);
         if pdf.is_nan() || pdf <= 0.0 || normal.dot(dir) <= 0.0 {
             return false;
