@@ -4,6 +4,7 @@
 #![deny(missing_docs)]
 
 pub mod camera;
+pub mod cpu_time;
 pub mod edges;
 pub mod film;
 pub mod fixed;

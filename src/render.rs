@@ -154,6 +154,9 @@ pub struct RenderStats {
     pub samples: u64,
     /// Wall-clock time.
     pub elapsed: Duration,
+    /// CPU time of the whole process over the same span (every thread, user and system), if
+    /// the platform reports it ([`crate::cpu_time::process_cpu_time`]).
+    pub cpu: Option<Duration>,
     /// Threads used.
     pub threads: usize,
     /// Light paths traced for caustics (0 without).
@@ -345,6 +348,7 @@ pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
         progress.set_length(samples.len() * per_sample);
     }
     let start = Instant::now();
+    let start_cpu = crate::cpu_time::process_cpu_time();
     let mut light = LightPasses::new(tracer, job, light_paths_per_pass);
     let mut light_elapsed = Duration::ZERO;
     let mut interrupted = false;
@@ -472,6 +476,9 @@ pub fn render_sums(scene: &Scene, job: &Job) -> Result<Rendered, RenderError> {
             * (window.pixels() as u64
                 + edges.edge_pixels() as u64 * u64::from(job.settings.edge_samples.saturating_sub(1))),
         elapsed: start.elapsed(),
+        cpu: crate::cpu_time::process_cpu_time()
+            .zip(start_cpu)
+            .and_then(|(end, start)| end.checked_sub(start)),
         threads,
         light_paths: done.len() * light_paths_per_pass,
         light_rays,

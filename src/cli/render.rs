@@ -458,6 +458,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         "edge_pixels": stats.edge_pixels,
         "threads": stats.threads,
         "render_seconds": seconds,
+        "render_cpu_seconds": stats.cpu.map(|cpu| cpu.as_secs_f64()),
         "samples": stats.samples,
         "rays": stats.rays,
         "samples_per_second": stats.samples as f64 / seconds.max(1e-9),
