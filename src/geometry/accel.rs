@@ -402,26 +402,16 @@ impl Geometry {
                 continue;
             }
             let sheared = sheared.get_or_insert_with(|| ShearedRay::new(*ray));
-            let test = packet.test(sheared, t_limit);
-            let tested_limit = t_limit;
-            let mut candidates = test.hits | test.undecided;
-            while candidates != 0 {
-                let lane = candidates.trailing_zeros() as usize;
-                candidates &= candidates - 1;
-                // A hit of the 4-wide test stands while the limit it was tested against does;
-                // after a closer hit in the same packet, the scalar test decides, as it would
-                // ray by ray.
-                let hit = if test.hits & (1 << lane) != 0 && t_limit == tested_limit {
-                    Some(test.hit(lane))
-                } else {
-                    packet.intersect_lane(lane, sheared, t_limit)
-                };
-                if let Some(hit) = hit {
-                    t_limit = hit.t;
+            // A hit of the 4-wide test stands while the limit it was tested against does; after
+            // a closer hit in the same packet, the scalar test decides, as it would ray by ray.
+            t_limit = packet.test(sheared, t_limit).nearer(
+                t_limit,
+                |lane, limit| packet.intersect_lane(lane, sheared, limit),
+                |lane, hit| {
                     found = Some(hit.t);
                     *nearest = Some(Nearest::Triangle { packet: index, lane: lane as u8, hit });
-                }
-            }
+                },
+            );
         }
         found
     }

@@ -99,29 +99,15 @@ impl QuadLanes {
 
     /// The nearest hit with t in (0, `t_limit`) among the lanes, as (lane, hit): what testing the
     /// 4-wide packets one after another with a shrinking limit finds (the first of equal
-    /// distances). A lane the wide test hits keeps its hit while the limit it was tested against
-    /// stands; after a closer hit, the scalar test decides at the new limit, as it would lane
-    /// by lane (a lane missed at a limit is missed at every smaller one: each check is monotone
-    /// in the limit).
+    /// distances; [`LanesTest::nearer`]).
     #[inline(always)]
-    pub(crate) fn nearest(&self, ray: &ShearedRay, mut t_limit: f32) -> Option<(usize, TriangleHit)> {
-        let test = self.test(ray, t_limit);
-        let tested_limit = t_limit;
+    pub(crate) fn nearest(&self, ray: &ShearedRay, t_limit: f32) -> Option<(usize, TriangleHit)> {
         let mut nearest = None;
-        let mut candidates = test.hits | test.undecided;
-        while candidates != 0 {
-            let lane = candidates.trailing_zeros() as usize;
-            candidates &= candidates - 1;
-            let hit = if test.hits & (1 << lane) != 0 && t_limit == tested_limit {
-                Some(test.hit(lane))
-            } else {
-                self.intersect_lane(lane, ray, t_limit)
-            };
-            if let Some(hit) = hit {
-                t_limit = hit.t;
-                nearest = Some((lane, hit));
-            }
-        }
+        self.test(ray, t_limit).nearer(
+            t_limit,
+            |lane, limit| self.intersect_lane(lane, ray, limit),
+            |lane, hit| nearest = Some((lane, hit)),
+        );
         nearest
     }
 

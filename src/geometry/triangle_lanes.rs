@@ -115,6 +115,37 @@ impl<T: TriangleLanes> LanesTest<T> {
         TriangleHit { t: self.t.lane(lane), barycentric: self.barycentric.map(|b| b.lane(lane)) }
     }
 
+    /// The hits among the lanes nearer and nearer, in lane order, for a test made at
+    /// `tested_limit`: `found(lane, hit)` for each lane hit closer than the lanes before it (the
+    /// first of equal distances stays). A lane the test hit keeps its hit while the limit it was
+    /// tested against stands; after a closer hit, `exact(lane, limit)` (the scalar test of that
+    /// lane) decides at the new limit, as it would lane by lane (a lane missed at a limit is
+    /// missed at every smaller one: each check is monotone in the limit). Returns the last limit.
+    #[inline(always)]
+    pub(crate) fn nearer(
+        &self,
+        tested_limit: f32,
+        mut exact: impl FnMut(usize, f32) -> Option<TriangleHit>,
+        mut found: impl FnMut(usize, TriangleHit),
+    ) -> f32 {
+        let mut t_limit = tested_limit;
+        let mut candidates = self.hits | self.undecided;
+        while candidates != 0 {
+            let lane = candidates.trailing_zeros() as usize;
+            candidates &= candidates - 1;
+            let hit = if self.hits & (1 << lane) != 0 && t_limit == tested_limit {
+                Some(self.hit(lane))
+            } else {
+                exact(lane, t_limit)
+            };
+            if let Some(hit) = hit {
+                t_limit = hit.t;
+                found(lane, hit);
+            }
+        }
+        t_limit
+    }
+
     /// Whether some lane is hit: one the test decided, or an undecided one that `exact` (the
     /// scalar test of that lane) hits.
     #[inline(always)]
