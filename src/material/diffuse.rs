@@ -69,11 +69,7 @@ impl Diffuse {
     // it cost 3 % more CPU per sample on the glass-and-mirror room (validation/bench/PROFILE.md).
     #[inline(always)]
     pub fn sample(normal: Vec3, u: (f32, f32)) -> (Vec3, f32) {
-        let (x, y) = concentric_disk(u);
-        let z = (1.0 - x * x - y * y).max(0.0).sqrt();
-        let (tangent, bitangent) = normal.any_orthonormal_pair();
-        let dir = (tangent * x + bitangent * y + normal * z).normalize();
-        (dir, Self::pdf(normal, dir))
+        Self::lift(normal, concentric_disk(u))
     }
 
     /// [`Self::sample`] with the concentric map's sine and cosine by polynomials
@@ -84,7 +80,13 @@ impl Diffuse {
     /// [`Self::sample`] so that Whitted's renders with caustics stay the same bit for bit.
     #[inline(always)]
     pub fn sample_polynomial(normal: Vec3, u: (f32, f32)) -> (Vec3, f32) {
-        let (x, y) = concentric_disk_polynomial(u);
+        Self::lift(normal, concentric_disk_polynomial(u))
+    }
+
+    /// The point (x, y) of the unit disc lifted to the hemisphere about `normal` (Malley's
+    /// method: cosine-distributed where the disc's points are uniform), with its density.
+    #[inline(always)]
+    fn lift(normal: Vec3, (x, y): (f32, f32)) -> (Vec3, f32) {
         let z = (1.0 - x * x - y * y).max(0.0).sqrt();
         let (tangent, bitangent) = normal.any_orthonormal_pair();
         let dir = (tangent * x + bitangent * y + normal * z).normalize();
