@@ -350,13 +350,11 @@ impl Geometry {
             return (nearest_plane, t_limit);
         }
         for packet in &self.planes {
-            if let Some(lane) = packet.nearest(ray, t_limit) {
+            // The packet repeats Plane::distance's arithmetic: its t is the scalar test's.
+            if let Some((lane, t)) = packet.nearest(ray, t_limit) {
                 let (prim, plane) = packet.plane(lane);
-                // The packet's choice repeats Plane::intersect's arithmetic, so this hits.
-                if let Some(t) = plane.distance(ray, t_limit) {
-                    t_limit = t;
-                    nearest_plane = Some(PlaneHit { prim, plane, t });
-                }
+                t_limit = t;
+                nearest_plane = Some(PlaneHit { prim, plane, t });
             }
         }
         (nearest_plane, t_limit)
