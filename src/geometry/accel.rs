@@ -27,8 +27,9 @@ use super::bvh::{Bvh, BvhPrimitive, BvhStats, PACKET_RAYS};
 use super::mesh::flat_hit_record;
 use super::packet::{leaf_lanes, pack_leaf, quad_uv, Lane, Packet, PlanePacket};
 use super::quad_lanes::QuadLanes;
+use super::sphere_lanes::SphereLanes;
 use super::triangle::{ShearedRay, TriangleHit};
-use super::{Hit, Mesh, Plane, Ray, Shape, Sphere};
+use super::{Hit, Mesh, Plane, Ray, Shape};
 
 /// At most this many spheres (and no other finite shape but [`FEW_QUADS`] quads) are tested one
 /// by one.
@@ -102,7 +103,8 @@ pub struct Geometry {
 /// The finite shapes of a scene small enough to test one by one (see `Geometry::few`).
 #[derive(Debug, Clone)]
 struct Few {
-    spheres: Vec<(u32, Sphere)>,
+    /// The spheres, tested together (`SphereLanes`).
+    spheres: SphereLanes,
     /// Each quad's id, corner and unit normal (`edge1 × edge2` normalised; none is degenerate),
     /// for [`leaves_quad_plane`].
     quads: Vec<(u32, Vec3, Vec3)>,
@@ -137,7 +139,7 @@ impl Few {
             _ => unreachable!("quad lanes hold quads"),
         };
         let lanes = QuadLanes::of(packets.iter().filter(|packet| !packet.holds_spheres()), quad_of)?;
-        Some(Self { spheres, quads, lanes })
+        Some(Self { spheres: SphereLanes::of(&spheres)?, quads, lanes })
     }
 
     /// Whether every quad but `except` (a shape id, or `u32::MAX` for none) is surely missed by
@@ -244,19 +246,19 @@ impl Geometry {
             return self.intersect_bvh(ray, t_max);
         };
         let (plane, mut t_limit) = self.nearest_plane(ray, t_max);
-        let mut nearest = None;
-        for (id, sphere) in &few.spheres {
-            if let Some(hit) = sphere.intersect(ray, t_limit, *id) {
-                t_limit = hit.t;
-                nearest = Some(hit);
-            }
+        let sphere = few.spheres.nearest(ray, t_limit);
+        if let Some(sphere) = &sphere {
+            t_limit = sphere.t;
         }
         if !few.quads_missed(ray, u32::MAX) {
             if let Some((lane, hit)) = few.lanes.nearest(&ShearedRay::new(*ray), t_limit) {
                 return Some(few.lanes.hit_record(lane, &hit));
             }
         }
-        nearest.or_else(|| plane.map(|plane| plane.record(ray)))
+        match sphere {
+            Some(sphere) => Some(sphere.record()),
+            None => plane.map(|plane| plane.record(ray)),
+        }
     }
 
     /// [`Self::intersect`] for any scene but a few spheres and planes: the planes, then the BVH
@@ -452,7 +454,7 @@ impl Geometry {
             return self.occluded_bvh(ray, t_max);
         };
         if self.planes_occlude(ray, t_max)
-            || few.spheres.iter().any(|(_, sphere)| sphere.intersect(ray, t_max, 0).is_some())
+            || few.spheres.any(ray, t_max)
         {
             return true;
         }
