@@ -179,11 +179,11 @@ impl PlanePacket {
         (self.ids[lane], Plane { point: at(&self.point), normal: at(&self.normal) })
     }
 
-    /// A mask of the lanes that [`Plane::distance`] hits with t in (0, `t_max`) (bit i for
-    /// lane i), and their distances. Each line repeats, eight lanes at a time, the operation it
+    /// A mask of the lanes that [`Plane::distance`] hits with t in (0, `t_max`) (all bits of
+    /// the lane set), and their distances. Each line repeats, eight lanes at a time, the operation it
     /// is named after.
     #[inline(always)]
-    fn hits(&self, ray: &Ray, t_max: f32) -> (u32, f32x8) {
+    fn hits(&self, ray: &Ray, t_max: f32) -> (f32x8, f32x8) {
         let [origin_x, origin_y, origin_z] = ray.origin.to_array().map(f32x8::splat);
         let [dir_x, dir_y, dir_z] = ray.dir.to_array().map(f32x8::splat);
         let [normal_x, normal_y, normal_z] = self.normal;
@@ -203,7 +203,7 @@ impl PlanePacket {
             & denominator.abs().simd_gt(error_denominator)
             & t.simd_gt(f32x8::ZERO)
             & t.simd_lt(f32x8::splat(t_max));
-        (hit.to_bitmask(), t)
+        (hit, t)
     }
 
     /// The lane of the nearest plane hit with t in (0, `t_max`), the first one among equal
@@ -212,27 +212,23 @@ impl PlanePacket {
     #[inline(always)]
     pub(crate) fn nearest(&self, ray: &Ray, t_max: f32) -> Option<(usize, f32)> {
         let (hits, t) = self.hits(ray, t_max);
-        if hits == 0 {
+        if !hits.any() {
             return None;
         }
-        // Few lanes hit (a ray inside a box leaves through one or two walls): walk them.
-        let distances = t.as_array();
-        let mut lanes = hits;
-        let mut nearest = (lanes.trailing_zeros() as usize, f32::INFINITY);
-        while lanes != 0 {
-            let lane = lanes.trailing_zeros() as usize;
-            lanes &= lanes - 1;
-            if distances[lane] < nearest.1 {
-                nearest = (lane, distances[lane]);
-            }
-        }
-        Some(nearest)
+        // The smallest distance among the lanes hit (a tree of minima, without branches: how
+        // many planes lie ahead changes from ray to ray), then the first lane at it.
+        let t = hits.select(t, f32x8::splat(f32::INFINITY));
+        let d = t.as_array();
+        let least = |a: f32, b: f32| if b < a { b } else { a };
+        let nearest = least(least(least(d[0], d[1]), least(d[2], d[3])), least(least(d[4], d[5]), least(d[6], d[7])));
+        let lane = t.simd_eq(f32x8::splat(nearest)).to_bitmask().trailing_zeros() as usize;
+        Some((lane, nearest))
     }
 
     /// True when a plane of the packet is hit with t in (0, `t_max`).
     #[inline(always)]
     pub(crate) fn any(&self, ray: &Ray, t_max: f32) -> bool {
-        self.hits(ray, t_max).0 != 0
+        self.hits(ray, t_max).0.any()
     }
 }
 
