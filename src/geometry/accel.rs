@@ -112,6 +112,9 @@ struct Few {
     /// spheres'), all tested in one 16-wide pass (the scalar test of each half costs more, and
     /// so did the leaves' 4-wide test packet after packet: validation/bench/PROFILE.md).
     lanes: QuadLanes,
+    /// The one 4-wide packet that holds every quad half, when there are at most two quads (TP6's
+    /// quad light): tested instead of `lanes`, whose sixteen lanes would be mostly empty.
+    packet: Option<Packet>,
 }
 
 impl Few {
@@ -139,7 +142,12 @@ impl Few {
             _ => unreachable!("quad lanes hold quads"),
         };
         let lanes = QuadLanes::of(packets.iter().filter(|packet| !packet.holds_spheres()), quad_of)?;
-        Some(Self { spheres: SphereLanes::of(&spheres)?, quads, lanes })
+        let mut quad_packets = packets.iter().filter(|packet| !packet.holds_spheres());
+        let packet = match (quad_packets.next(), quad_packets.next()) {
+            (Some(packet), None) => Some(*packet),
+            _ => None,
+        };
+        Some(Self { spheres: SphereLanes::of(&spheres)?, quads, lanes, packet })
     }
 
     /// Whether every quad but `except` (a shape id, or `u32::MAX` for none) is surely missed by
@@ -251,7 +259,22 @@ impl Geometry {
             t_limit = sphere.t;
         }
         if !few.quads_missed(ray, u32::MAX) {
-            if let Some((lane, hit)) = few.lanes.nearest(&ShearedRay::new(*ray), t_limit) {
+            let sheared = ShearedRay::new(*ray);
+            if let Some(packet) = &few.packet {
+                let mut nearest = None;
+                packet.test(&sheared, t_limit).nearer(
+                    t_limit,
+                    |lane, limit| packet.intersect_lane(lane, &sheared, limit),
+                    |lane, hit| nearest = Some((lane, hit)),
+                );
+                if let Some((lane, hit)) = nearest {
+                    let (u, v) = quad_uv(packet.lane(lane), &hit);
+                    return match self.shapes[packet.id(lane) as usize] {
+                        Shape::Quad(quad) => quad.hit_record(hit.t, u, v, packet.id(lane)),
+                        _ => None,
+                    };
+                }
+            } else if let Some((lane, hit)) = few.lanes.nearest(&sheared, t_limit) {
                 return Some(few.lanes.hit_record(lane, &hit));
             }
         }
@@ -461,7 +484,13 @@ impl Geometry {
         if few.quads_missed(ray, except) {
             return false;
         }
-        few.lanes.any(&ShearedRay::new(*ray), t_max)
+        let sheared = ShearedRay::new(*ray);
+        match &few.packet {
+            Some(packet) => packet
+                .test(&sheared, t_max)
+                .any(|lane| packet.intersect_lane(lane, &sheared, t_max).is_some()),
+            None => few.lanes.any(&sheared, t_max),
+        }
     }
 
     /// [`Self::occluded`] for any scene but a few spheres and planes (kept apart as
