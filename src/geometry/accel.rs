@@ -43,6 +43,9 @@ const FEW_QUADS: usize = 8;
 /// (`Few::quads_missed`): TP6's quad light. The glass-and-mirror room's five quads went 2–3 %
 /// faster without the checks (validation/bench/PROFILE.md).
 const FEW_PLANE_CHECKS: usize = 2;
+/// At most this many 4-wide packets of quad halves are tested one after another instead of
+/// the 16-wide `QuadLanes`.
+const FEW_QUAD_PACKETS: usize = 3;
 /// At most this many infinite planes are tested one by one (more go four at a time, as the
 /// plane packets test them: cheaper for the five planes of a TP6 box).
 const FEW_PLANES: usize = 2;
@@ -112,9 +115,9 @@ struct Few {
     /// spheres'), all tested in one 16-wide pass (the scalar test of each half costs more, and
     /// so did the leaves' 4-wide test packet after packet: validation/bench/PROFILE.md).
     lanes: QuadLanes,
-    /// The one 4-wide packet that holds every quad half, when there are at most two quads (TP6's
-    /// quad light): tested instead of `lanes`, whose sixteen lanes would be mostly empty.
-    packet: Option<Packet>,
+    /// The 4-wide packets that hold the quad halves, tested instead of `lanes` when they are at
+    /// most [`FEW_QUAD_PACKETS`] (TP6's quad light).
+    packets: Vec<Packet>,
 }
 
 impl Few {
@@ -142,12 +145,9 @@ impl Few {
             _ => unreachable!("quad lanes hold quads"),
         };
         let lanes = QuadLanes::of(packets.iter().filter(|packet| !packet.holds_spheres()), quad_of)?;
-        let mut quad_packets = packets.iter().filter(|packet| !packet.holds_spheres());
-        let packet = match (quad_packets.next(), quad_packets.next()) {
-            (Some(packet), None) => Some(*packet),
-            _ => None,
-        };
-        Some(Self { spheres: SphereLanes::of(&spheres)?, quads, lanes, packet })
+        let quad_packets: Vec<Packet> = packets.iter().filter(|packet| !packet.holds_spheres()).copied().collect();
+        let packets = if quad_packets.len() <= FEW_QUAD_PACKETS { quad_packets } else { Vec::new() };
+        Some(Self { spheres: SphereLanes::of(&spheres)?, quads, lanes, packets })
     }
 
     /// Whether every quad but `except` (a shape id, or `u32::MAX` for none) is surely missed by
@@ -260,14 +260,16 @@ impl Geometry {
         }
         if !few.quads_missed(ray, u32::MAX) {
             let sheared = ShearedRay::new(*ray);
-            if let Some(packet) = &few.packet {
+            if !few.packets.is_empty() {
                 let mut nearest = None;
-                packet.test(&sheared, t_limit).nearer(
-                    t_limit,
-                    |lane, limit| packet.intersect_lane(lane, &sheared, limit),
-                    |lane, hit| nearest = Some((lane, hit)),
-                );
-                if let Some((lane, hit)) = nearest {
+                for packet in &few.packets {
+                    t_limit = packet.test(&sheared, t_limit).nearer(
+                        t_limit,
+                        |lane, limit| packet.intersect_lane(lane, &sheared, limit),
+                        |lane, hit| nearest = Some((packet, lane, hit)),
+                    );
+                }
+                if let Some((packet, lane, hit)) = nearest {
                     let (u, v) = quad_uv(packet.lane(lane), &hit);
                     return match self.shapes[packet.id(lane) as usize] {
                         Shape::Quad(quad) => quad.hit_record(hit.t, u, v, packet.id(lane)),
@@ -485,12 +487,12 @@ impl Geometry {
             return false;
         }
         let sheared = ShearedRay::new(*ray);
-        match &few.packet {
-            Some(packet) => packet
-                .test(&sheared, t_max)
-                .any(|lane| packet.intersect_lane(lane, &sheared, t_max).is_some()),
-            None => few.lanes.any(&sheared, t_max),
+        if few.packets.is_empty() {
+            return few.lanes.any(&sheared, t_max);
         }
+        few.packets.iter().any(|packet| {
+            packet.test(&sheared, t_max).any(|lane| packet.intersect_lane(lane, &sheared, t_max).is_some())
+        })
     }
 
     /// [`Self::occluded`] for any scene but a few spheres and planes (kept apart as
