@@ -145,7 +145,8 @@ impl Few {
             _ => unreachable!("quad lanes hold quads"),
         };
         let lanes = QuadLanes::of(packets.iter().filter(|packet| !packet.holds_spheres()), quad_of)?;
-        let quad_packets: Vec<Packet> = packets.iter().filter(|packet| !packet.holds_spheres()).copied().collect();
+        let quad_packets: Vec<Packet> =
+            packets.iter().filter(|packet| !packet.holds_spheres()).copied().collect();
         let packets = if quad_packets.len() <= FEW_QUAD_PACKETS { quad_packets } else { Vec::new() };
         Some(Self { spheres: SphereLanes::of(&spheres)?, quads, lanes, packets })
     }
@@ -478,9 +479,7 @@ impl Geometry {
         let Some(few) = &self.few else {
             return self.occluded_bvh(ray, t_max);
         };
-        if self.planes_occlude(ray, t_max)
-            || few.spheres.any(ray, t_max)
-        {
+        if self.planes_occlude(ray, t_max) || few.spheres.any(ray, t_max) {
             return true;
         }
         if few.quads_missed(ray, except) {

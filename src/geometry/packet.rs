@@ -220,7 +220,8 @@ impl PlanePacket {
         let t = hits.select(t, f32x8::splat(f32::INFINITY));
         let d = t.as_array();
         let least = |a: f32, b: f32| if b < a { b } else { a };
-        let nearest = least(least(least(d[0], d[1]), least(d[2], d[3])), least(least(d[4], d[5]), least(d[6], d[7])));
+        let nearest =
+            least(least(least(d[0], d[1]), least(d[2], d[3])), least(least(d[4], d[5]), least(d[6], d[7])));
         let lane = t.simd_eq(f32x8::splat(nearest)).to_bitmask().trailing_zeros() as usize;
         Some((lane, nearest))
     }

@@ -104,7 +104,10 @@ impl SphereLanes {
     #[inline(always)]
     fn sphere(&self, lane: usize) -> Sphere {
         let at = |row: &f32x4| row.as_array()[lane];
-        Sphere { center: Vec3::new(at(&self.center[0]), at(&self.center[1]), at(&self.center[2])), radius: at(&self.radius) }
+        Sphere {
+            center: Vec3::new(at(&self.center[0]), at(&self.center[1]), at(&self.center[2])),
+            radius: at(&self.radius),
+        }
     }
 
     /// The lanes whose nearer root [`Sphere::intersect`] keeps with t in (0, `t_max`), before
@@ -176,11 +179,17 @@ impl SphereLanes {
         let at = |row: &f32x4| row.as_array()[nearest];
         // Sphere::intersect's try_normalize; where it fails (a sphere of no size, a ray from its
         // very centre) that sphere is no hit and another may be: the spheres one by one decide.
-        let Some(normal) = Vec3::new(at(&roots.offset[0]), at(&roots.offset[1]), at(&roots.offset[2])).try_normalize()
+        let Some(normal) =
+            Vec3::new(at(&roots.offset[0]), at(&roots.offset[1]), at(&roots.offset[2])).try_normalize()
         else {
             return self.one_by_one(ray, t_max);
         };
-        Some(SphereHit { t: distances[nearest], normal, sphere: self.sphere(nearest), prim: self.ids[nearest] })
+        Some(SphereHit {
+            t: distances[nearest],
+            normal,
+            sphere: self.sphere(nearest),
+            prim: self.ids[nearest],
+        })
     }
 
     /// [`Self::nearest`] by [`Sphere::intersect`] on each sphere in turn, at the limit its
@@ -212,7 +221,10 @@ impl SphereLanes {
             let lane = lanes.trailing_zeros() as usize;
             lanes &= lanes - 1;
             let at = |row: &f32x4| row.as_array()[lane];
-            if Vec3::new(at(&roots.offset[0]), at(&roots.offset[1]), at(&roots.offset[2])).try_normalize().is_some() {
+            if Vec3::new(at(&roots.offset[0]), at(&roots.offset[1]), at(&roots.offset[2]))
+                .try_normalize()
+                .is_some()
+            {
                 return true;
             }
         }
@@ -300,7 +312,11 @@ mod tests {
                 let t_max = if rng.uniform(0.0, 1.0) < 0.5 { f32::INFINITY } else { rng.uniform(0.01, 10.0) };
                 let expected = one_by_one(&spheres, &ray, t_max);
                 let found = lanes.nearest(&ray, t_max).map(|hit| hit.record());
-                assert_eq!(found.as_ref().map(bits), expected.as_ref().map(bits), "{spheres:?}, {ray:?}, {t_max}");
+                assert_eq!(
+                    found.as_ref().map(bits),
+                    expected.as_ref().map(bits),
+                    "{spheres:?}, {ray:?}, {t_max}"
+                );
                 let any = spheres.iter().any(|(_, sphere)| sphere.intersect(&ray, t_max, 0).is_some());
                 assert_eq!(lanes.any(&ray, t_max), any, "{spheres:?}, {ray:?}, {t_max}");
                 hits += usize::from(expected.is_some());
@@ -314,6 +330,7 @@ mod tests {
     fn five_spheres_do_not_fit() {
         let sphere = Sphere { center: Vec3::ZERO, radius: 1.0 };
         assert!(SphereLanes::of(&[(0, sphere); 5]).is_none());
-        assert!(SphereLanes::of(&[]).is_some_and(|lanes| lanes.nearest(&Ray::new(Vec3::Z, -Vec3::Z), 9.0).is_none()));
+        assert!(SphereLanes::of(&[])
+            .is_some_and(|lanes| lanes.nearest(&Ray::new(Vec3::Z, -Vec3::Z), 9.0).is_none()));
     }
 }
