@@ -91,8 +91,8 @@ impl SphereLanes {
         let mut radius = [f32::NAN; LANES];
         let mut ids = [u32::MAX; LANES];
         for (lane, (id, sphere)) in spheres.iter().enumerate() {
-            for axis in 0..3 {
-                center[axis][lane] = sphere.center[axis];
+            for (row, coordinate) in center.iter_mut().zip(sphere.center.to_array()) {
+                row[lane] = coordinate;
             }
             radius[lane] = sphere.radius;
             ids[lane] = *id;
