@@ -1,15 +1,18 @@
 //! [`Geometry`]: every shape of the scene, with a BVH over the finite ones and the infinite planes
 //! tested separately.
 //!
-//! Planes are tested first, four at a time (a scene has a handful), so that their hit bounds
-//! the BVH traversal; then the BVH over spheres, quads and triangles. A scene of at most
-//! `FEW_SPHERES` (4) spheres, at most `FEW_QUADS` (8) quads and nothing else finite (the lab and
-//! validation scenes, TP6's quad light, the glass-and-mirror room's four walls and light) skips
-//! the BVH: its spheres are tested one after another and the halves of all its quads at once,
-//! sixteen lanes wide (`QuadLanes`), unless there are at most `FEW_PLANE_CHECKS` (2) quads and
-//! the ray leaves every quad's plane, which finds the same hits for about half the instructions;
-//! so are the planes of any scene with at most `FEW_PLANES` (2). Each ray is prepared once
-//! (watertight shear for triangles and quads, inverse direction for the boxes).
+//! Planes are tested first, eight at a time (a scene has a handful: `PlanePacket`), so that
+//! their hit bounds the BVH traversal; then the BVH over spheres, quads and triangles. A scene of
+//! at most `FEW_SPHERES` (4) spheres, at most `FEW_QUADS` (8) quads and nothing else finite (the
+//! lab and validation scenes, TP6's quad light, the glass-and-mirror room's four walls and light)
+//! skips the BVH: its spheres are tested together in four lanes (`SphereLanes`), and its quads'
+//! halves in their 4-wide packets one after another when they fill at most `FEW_QUAD_PACKETS`
+//! (3: TP6's light, the room's five quads), else all at once sixteen lanes wide (`QuadLanes`);
+//! the quads are skipped when there are at most `FEW_PLANE_CHECKS` (2) and the ray leaves every
+//! quad's plane. The planes of any scene with at most `FEW_PLANES` (2) are tested one by one.
+//! Every vector test repeats its scalar test's f32 operations lane by lane, so the hits are the
+//! same, bit for bit. Each ray is prepared once (watertight shear for triangles and quads,
+//! inverse direction for the boxes).
 //!
 //! The finite shapes are copied into the BVH's leaves as `Packet`s of four (a quad as its two
 //! triangles), in leaf order, so that a leaf is read from consecutive memory instead of through
@@ -43,10 +46,12 @@ const FEW_QUADS: usize = 8;
 /// (`Few::quads_missed`): TP6's quad light. The glass-and-mirror room's five quads went 2–3 %
 /// faster without the checks (validation/bench/PROFILE.md).
 const FEW_PLANE_CHECKS: usize = 2;
-/// At most this many 4-wide packets of quad halves are tested one after another instead of
-/// the 16-wide `QuadLanes`.
+/// At most this many 4-wide packets of quad halves (six quads) are tested one after another
+/// instead of the 16-wide `QuadLanes`: TP6's one quad in one packet took 19 % less CPU per
+/// render, the room's five quads in three packets 4.4 % less, although in a loop of rays alone
+/// the 16 lanes test the room's quads faster (validation/bench/PROFILE.md).
 const FEW_QUAD_PACKETS: usize = 3;
-/// At most this many infinite planes are tested one by one (more go four at a time, as the
+/// At most this many infinite planes are tested one by one (more go eight at a time, as the
 /// plane packets test them: cheaper for the five planes of a TP6 box).
 const FEW_PLANES: usize = 2;
 
@@ -112,11 +117,11 @@ struct Few {
     /// for [`leaves_quad_plane`].
     quads: Vec<(u32, Vec3, Vec3)>,
     /// The quads' halves, copied from the packets that hold them (every packet but the
-    /// spheres'), all tested in one 16-wide pass (the scalar test of each half costs more, and
-    /// so did the leaves' 4-wide test packet after packet: validation/bench/PROFILE.md).
+    /// spheres'), all tested in one 16-wide pass when they fill more than [`FEW_QUAD_PACKETS`]
+    /// packets (the scalar test of each half costs more).
     lanes: QuadLanes,
-    /// The 4-wide packets that hold the quad halves, tested instead of `lanes` when they are at
-    /// most [`FEW_QUAD_PACKETS`] (TP6's quad light).
+    /// The 4-wide packets that hold the quad halves, in leaf order, tested one after another
+    /// instead of `lanes` when they are at most [`FEW_QUAD_PACKETS`] (else empty).
     packets: Vec<Packet>,
 }
 
@@ -363,7 +368,7 @@ impl Geometry {
 
     /// The nearest infinite plane hit with t in (0, `t_max`), and the distance the BVH search
     /// must then beat (its t, or `t_max`): the first among equal distances, whether the planes
-    /// are few enough to be tested one by one or go four at a time.
+    /// are few enough to be tested one by one or go eight at a time.
     #[inline(always)]
     fn nearest_plane(&self, ray: &Ray, t_max: f32) -> (Option<PlaneHit>, f32) {
         let mut nearest_plane = None;
@@ -783,8 +788,8 @@ mod tests {
     #[test]
     fn a_closed_box_of_quads_leaks_at_no_edge_or_corner() {
         // A closed box of six quads (the glass-and-mirror room's walls, closed, at its
-        // coordinates) and two spheres inside, tested directly (all the quads' halves in one
-        // 16-wide pass): rays from inside aimed exactly at the box's twelve edges and eight
+        // coordinates) and two spheres inside, tested directly (the quads' halves in their three
+        // 4-wide packets, one after another): rays from inside aimed exactly at the box's twelve edges and eight
         // corners, and at the quads' diagonals, must all hit a wall (a miss is light leaking
         // through a seam; the quads share their corners exactly, which the watertight test needs)
         // and find, bit for bit, what the 4-wide packets and a linear scan find.

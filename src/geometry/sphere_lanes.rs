@@ -4,12 +4,15 @@
 //!
 //! Lane by lane the test evaluates the f32 operations of [`Sphere::intersect`] with the same
 //! operands in the same order (the offset from the centre, b, the perpendicular offset and the
-//! discriminant, c, q, the roots' error bounds and checks, the nearer kept root, and the
-//! normalisation of the hit's normal, whose failure is a miss there too), so each lane hits
-//! exactly when the scalar test hits, at the same distance with the same normal and point, bit
-//! for bit (the normalisation is the scalar one, on the lane's offset from the centre). Negation and `copysign` are the scalar ones' sign-bit operations; the square root
-//! and the division are IEEE's, correctly rounded in both. Unused lanes hold NaN, which fails
-//! every comparison.
+//! discriminant, c, q, the roots' error bounds and checks, the nearer kept root, the offset from
+//! the centre at that root), so each lane keeps exactly the root the scalar test keeps, bit for
+//! bit. Negation and `copysign` are the scalar ones' sign-bit operations; the square root and the
+//! division are IEEE's, correctly rounded in both. Unused lanes hold NaN, which fails every
+//! comparison. The normal is then normalised by the scalar `try_normalize` on the lane's offset,
+//! as [`Sphere::intersect`] does; where that fails (a sphere of no size, a ray from its very
+//! centre) the scalar test misses that sphere, and the spheres are searched again one by one.
+//! When no lane has real roots (most rays miss every sphere) the test stops there, before the
+//! square root and the divisions, as the scalar test does.
 //!
 //! Testing the spheres one after another with a shrinking limit finds the first of the nearest:
 //! a sphere tested at a smaller limit hits exactly when its hit at the larger limit lies below
