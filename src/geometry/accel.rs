@@ -789,10 +789,11 @@ mod tests {
     fn a_closed_box_of_quads_leaks_at_no_edge_or_corner() {
         // A closed box of six quads (the glass-and-mirror room's walls, closed, at its
         // coordinates) and two spheres inside, tested directly (the quads' halves in their three
-        // 4-wide packets, one after another): rays from inside aimed exactly at the box's twelve edges and eight
-        // corners, and at the quads' diagonals, must all hit a wall (a miss is light leaking
-        // through a seam; the quads share their corners exactly, which the watertight test needs)
-        // and find, bit for bit, what the 4-wide packets and a linear scan find.
+        // 4-wide packets, one after another): rays from inside aimed exactly at the box's twelve
+        // edges and eight corners, and at the quads' diagonals, must all hit a wall (a miss is
+        // light leaking through a seam; the quads share their corners exactly, which the
+        // watertight test needs) and find, bit for bit, what the BVH's packets and a linear scan
+        // find.
         let (low, high) = (Vec3::new(-3.0, 0.0, -4.0), Vec3::new(3.0, 3.5, 6.0));
         let size = high - low;
         let (x, y, z) = (Vec3::X * size.x, Vec3::Y * size.y, Vec3::Z * size.z);
