@@ -1,15 +1,18 @@
 //! [`Geometry`]: every shape of the scene, with a BVH over the finite ones and the infinite planes
 //! tested separately.
 //!
-//! Planes are tested first, four at a time (a scene has a handful), so that their hit bounds
-//! the BVH traversal; then the BVH over spheres, quads and triangles. A scene of at most
-//! `FEW_SPHERES` (4) spheres, at most `FEW_QUADS` (8) quads and nothing else finite (the lab and
-//! validation scenes, TP6's quad light, the glass-and-mirror room's four walls and light) skips
-//! the BVH: its spheres are tested one after another and the halves of all its quads at once,
-//! sixteen lanes wide (`QuadLanes`), unless there are at most `FEW_PLANE_CHECKS` (2) quads and
-//! the ray leaves every quad's plane, which finds the same hits for about half the instructions;
-//! so are the planes of any scene with at most `FEW_PLANES` (2). Each ray is prepared once
-//! (watertight shear for triangles and quads, inverse direction for the boxes).
+//! Planes are tested first, eight at a time (a scene has a handful: `PlanePacket`), so that
+//! their hit bounds the BVH traversal; then the BVH over spheres, quads and triangles. A scene of
+//! at most `FEW_SPHERES` (4) spheres, at most `FEW_QUADS` (8) quads and nothing else finite (the
+//! lab and validation scenes, TP6's quad light, the glass-and-mirror room's four walls and light)
+//! skips the BVH: its spheres are tested together in four lanes (`SphereLanes`), and its quads'
+//! halves in their 4-wide packets one after another when they fill at most `FEW_QUAD_PACKETS`
+//! (3: TP6's light, the room's five quads), else all at once sixteen lanes wide (`QuadLanes`);
+//! the quads are skipped when there are at most `FEW_PLANE_CHECKS` (2) and the ray leaves every
+//! quad's plane. The planes of any scene with at most `FEW_PLANES` (2) are tested one by one.
+//! Every vector test repeats its scalar test's f32 operations lane by lane, so the hits are the
+//! same, bit for bit. Each ray is prepared once (watertight shear for triangles and quads,
+//! inverse direction for the boxes).
 //!
 //! The finite shapes are copied into the BVH's leaves as `Packet`s of four (a quad as its two
 //! triangles), in leaf order, so that a leaf is read from consecutive memory instead of through
@@ -27,8 +30,9 @@ use super::bvh::{Bvh, BvhPrimitive, BvhStats, PACKET_RAYS};
 use super::mesh::flat_hit_record;
 use super::packet::{leaf_lanes, pack_leaf, quad_uv, Lane, Packet, PlanePacket};
 use super::quad_lanes::QuadLanes;
+use super::sphere_lanes::SphereLanes;
 use super::triangle::{ShearedRay, TriangleHit};
-use super::{Hit, Mesh, Plane, Ray, Shape, Sphere};
+use super::{Hit, Mesh, Plane, Ray, Shape};
 
 /// At most this many spheres (and no other finite shape but [`FEW_QUADS`] quads) are tested one
 /// by one.
@@ -42,7 +46,12 @@ const FEW_QUADS: usize = 8;
 /// (`Few::quads_missed`): TP6's quad light. The glass-and-mirror room's five quads went 2–3 %
 /// faster without the checks (validation/bench/PROFILE.md).
 const FEW_PLANE_CHECKS: usize = 2;
-/// At most this many infinite planes are tested one by one (more go four at a time, as the
+/// At most this many 4-wide packets of quad halves (six quads) are tested one after another
+/// instead of the 16-wide `QuadLanes`: TP6's one quad in one packet took 19 % less CPU per
+/// render, the room's five quads in three packets 4.4 % less, although in a loop of rays alone
+/// the 16 lanes test the room's quads faster (validation/bench/PROFILE.md).
+const FEW_QUAD_PACKETS: usize = 3;
+/// At most this many infinite planes are tested one by one (more go eight at a time, as the
 /// plane packets test them: cheaper for the five planes of a TP6 box).
 const FEW_PLANES: usize = 2;
 
@@ -102,14 +111,18 @@ pub struct Geometry {
 /// The finite shapes of a scene small enough to test one by one (see `Geometry::few`).
 #[derive(Debug, Clone)]
 struct Few {
-    spheres: Vec<(u32, Sphere)>,
+    /// The spheres, tested together (`SphereLanes`).
+    spheres: SphereLanes,
     /// Each quad's id, corner and unit normal (`edge1 × edge2` normalised; none is degenerate),
     /// for [`leaves_quad_plane`].
     quads: Vec<(u32, Vec3, Vec3)>,
     /// The quads' halves, copied from the packets that hold them (every packet but the
-    /// spheres'), all tested in one 16-wide pass (the scalar test of each half costs more, and
-    /// so did the leaves' 4-wide test packet after packet: validation/bench/PROFILE.md).
+    /// spheres'), all tested in one 16-wide pass when they fill more than [`FEW_QUAD_PACKETS`]
+    /// packets (the scalar test of each half costs more).
     lanes: QuadLanes,
+    /// The 4-wide packets that hold the quad halves, in leaf order, tested one after another
+    /// instead of `lanes` when they are at most [`FEW_QUAD_PACKETS`] (else empty).
+    packets: Vec<Packet>,
 }
 
 impl Few {
@@ -137,7 +150,10 @@ impl Few {
             _ => unreachable!("quad lanes hold quads"),
         };
         let lanes = QuadLanes::of(packets.iter().filter(|packet| !packet.holds_spheres()), quad_of)?;
-        Some(Self { spheres, quads, lanes })
+        let quad_packets: Vec<Packet> =
+            packets.iter().filter(|packet| !packet.holds_spheres()).copied().collect();
+        let packets = if quad_packets.len() <= FEW_QUAD_PACKETS { quad_packets } else { Vec::new() };
+        Some(Self { spheres: SphereLanes::of(&spheres)?, quads, lanes, packets })
     }
 
     /// Whether every quad but `except` (a shape id, or `u32::MAX` for none) is surely missed by
@@ -244,19 +260,36 @@ impl Geometry {
             return self.intersect_bvh(ray, t_max);
         };
         let (plane, mut t_limit) = self.nearest_plane(ray, t_max);
-        let mut nearest = None;
-        for (id, sphere) in &few.spheres {
-            if let Some(hit) = sphere.intersect(ray, t_limit, *id) {
-                t_limit = hit.t;
-                nearest = Some(hit);
-            }
+        let sphere = few.spheres.nearest(ray, t_limit);
+        if let Some(sphere) = &sphere {
+            t_limit = sphere.t;
         }
         if !few.quads_missed(ray, u32::MAX) {
-            if let Some((lane, hit)) = few.lanes.nearest(&ShearedRay::new(*ray), t_limit) {
+            let sheared = ShearedRay::new(*ray);
+            if !few.packets.is_empty() {
+                let mut nearest = None;
+                for packet in &few.packets {
+                    t_limit = packet.test(&sheared, t_limit).nearer(
+                        t_limit,
+                        |lane, limit| packet.intersect_lane(lane, &sheared, limit),
+                        |lane, hit| nearest = Some((packet, lane, hit)),
+                    );
+                }
+                if let Some((packet, lane, hit)) = nearest {
+                    let (u, v) = quad_uv(packet.lane(lane), &hit);
+                    return match self.shapes[packet.id(lane) as usize] {
+                        Shape::Quad(quad) => quad.hit_record(hit.t, u, v, packet.id(lane)),
+                        _ => None,
+                    };
+                }
+            } else if let Some((lane, hit)) = few.lanes.nearest(&sheared, t_limit) {
                 return Some(few.lanes.hit_record(lane, &hit));
             }
         }
-        nearest.or_else(|| plane.map(|plane| plane.record(ray)))
+        match sphere {
+            Some(sphere) => Some(sphere.record()),
+            None => plane.map(|plane| plane.record(ray)),
+        }
     }
 
     /// [`Self::intersect`] for any scene but a few spheres and planes: the planes, then the BVH
@@ -335,7 +368,7 @@ impl Geometry {
 
     /// The nearest infinite plane hit with t in (0, `t_max`), and the distance the BVH search
     /// must then beat (its t, or `t_max`): the first among equal distances, whether the planes
-    /// are few enough to be tested one by one or go four at a time.
+    /// are few enough to be tested one by one or go eight at a time.
     #[inline(always)]
     fn nearest_plane(&self, ray: &Ray, t_max: f32) -> (Option<PlaneHit>, f32) {
         let mut nearest_plane = None;
@@ -350,13 +383,11 @@ impl Geometry {
             return (nearest_plane, t_limit);
         }
         for packet in &self.planes {
-            if let Some(lane) = packet.nearest(ray, t_limit) {
+            // The packet repeats Plane::distance's arithmetic: its t is the scalar test's.
+            if let Some((lane, t)) = packet.nearest(ray, t_limit) {
                 let (prim, plane) = packet.plane(lane);
-                // The packet's choice repeats Plane::intersect's arithmetic, so this hits.
-                if let Some(t) = plane.distance(ray, t_limit) {
-                    t_limit = t;
-                    nearest_plane = Some(PlaneHit { prim, plane, t });
-                }
+                t_limit = t;
+                nearest_plane = Some(PlaneHit { prim, plane, t });
             }
         }
         (nearest_plane, t_limit)
@@ -453,15 +484,19 @@ impl Geometry {
         let Some(few) = &self.few else {
             return self.occluded_bvh(ray, t_max);
         };
-        if self.planes_occlude(ray, t_max)
-            || few.spheres.iter().any(|(_, sphere)| sphere.intersect(ray, t_max, 0).is_some())
-        {
+        if self.planes_occlude(ray, t_max) || few.spheres.any(ray, t_max) {
             return true;
         }
         if few.quads_missed(ray, except) {
             return false;
         }
-        few.lanes.any(&ShearedRay::new(*ray), t_max)
+        let sheared = ShearedRay::new(*ray);
+        if few.packets.is_empty() {
+            return few.lanes.any(&sheared, t_max);
+        }
+        few.packets.iter().any(|packet| {
+            packet.test(&sheared, t_max).any(|lane| packet.intersect_lane(lane, &sheared, t_max).is_some())
+        })
     }
 
     /// [`Self::occluded`] for any scene but a few spheres and planes (kept apart as
@@ -753,11 +788,12 @@ mod tests {
     #[test]
     fn a_closed_box_of_quads_leaks_at_no_edge_or_corner() {
         // A closed box of six quads (the glass-and-mirror room's walls, closed, at its
-        // coordinates) and two spheres inside, tested directly (all the quads' halves in one
-        // 16-wide pass): rays from inside aimed exactly at the box's twelve edges and eight
-        // corners, and at the quads' diagonals, must all hit a wall (a miss is light leaking
-        // through a seam; the quads share their corners exactly, which the watertight test needs)
-        // and find, bit for bit, what the 4-wide packets and a linear scan find.
+        // coordinates) and two spheres inside, tested directly (the quads' halves in their three
+        // 4-wide packets, one after another): rays from inside aimed exactly at the box's twelve
+        // edges and eight corners, and at the quads' diagonals, must all hit a wall (a miss is
+        // light leaking through a seam; the quads share their corners exactly, which the
+        // watertight test needs) and find, bit for bit, what the BVH's packets and a linear scan
+        // find.
         let (low, high) = (Vec3::new(-3.0, 0.0, -4.0), Vec3::new(3.0, 3.5, 6.0));
         let size = high - low;
         let (x, y, z) = (Vec3::X * size.x, Vec3::Y * size.y, Vec3::Z * size.z);

@@ -52,6 +52,7 @@ pub mod ray;
 mod rounding;
 pub mod shape;
 pub mod sphere;
+mod sphere_lanes;
 #[cfg(test)]
 mod test_util;
 pub mod triangle;

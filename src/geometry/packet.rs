@@ -1,7 +1,7 @@
 //! [`Packet`]: up to four finite shapes of a BVH leaf, stored by coordinate ("structure of
 //! arrays") so that a ray is tested against four triangles with 4-wide vector arithmetic.
 //!
-//! [`PlanePacket`]s do the same for the infinite planes, which are not in the BVH.
+//! [`PlanePacket`]s do the same, eight wide, for the infinite planes, which are not in the BVH.
 //!
 //! A triangle packet holds triangles of meshes and the two halves of quads (a quad is tested
 //! as its two triangles, lower half first, exactly as [`super::Quad`] does); a sphere packet
@@ -20,7 +20,8 @@
 //! stopped at the range check and every lane that passed was recomputed by the scalar test:
 //! 7–8 % more instructions per incoherent shadow ray on a 79,600-triangle mesh, by callgrind.)
 
-use glam::{BVec4A, Vec3, Vec4};
+use glam::{Vec3, Vec4};
+use wide::f32x8;
 
 use super::rounding::gamma;
 use super::triangle::{intersect_triangle, ShearedRay, TriangleHit};
@@ -126,38 +127,45 @@ impl Packet {
 /// What [`Packet::test`] decided for one ray.
 pub(crate) type PacketTest = LanesTest<Vec4>;
 
-/// Up to four infinite planes, tested together: 112 bytes.
+/// Infinite planes in one packet: a TP6 box's five, or any scene's first eight.
+pub(crate) const PLANE_LANES: usize = 8;
+
+/// Up to eight infinite planes, tested together in one 8-wide vector: 224 bytes.
 ///
-/// [`Self::nearest`] evaluates, four lanes at a time, exactly the f32 operations of
-/// [`Plane::intersect`] that decide whether and where it hits (numerator, denominator, their
-/// error bounds, the distance), so it finds the plane the scalar test would; the hit record is
-/// then built by [`Plane::intersect`] itself. Unused lanes are NaN and never hit.
+/// [`Self::nearest`] evaluates, eight lanes at a time, exactly the f32 operations of
+/// [`Plane::distance`] that decide whether and where it hits (numerator, denominator, their
+/// error bounds, the distance) with the same operands in the same order, so the lanes hit what
+/// the scalar test hits at the same distance, bit for bit; the hit record is then built by
+/// [`Plane::hit_at`]. Unused lanes are NaN and never hit. (Until 2026-12 the packets were four
+/// wide, and the nearest lane's plane was tested again by [`Plane::distance`]: two packets and
+/// a scalar test for the five planes of a TP6 box instead of one packet.)
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct PlanePacket {
     /// x, y, z of a point of each plane.
-    point: [Vec4; 3],
+    point: [f32x8; 3],
     /// x, y, z of each plane's unit normal.
-    normal: [Vec4; 3],
+    normal: [f32x8; 3],
     /// The index of each lane's plane in the list given to [`super::Geometry::build`].
-    ids: [u32; LANES],
+    ids: [u32; PLANE_LANES],
 }
 
 impl PlanePacket {
-    /// Packs `planes` (id, plane) four at a time.
+    /// Packs `planes` (id, plane) eight at a time.
     pub(crate) fn pack(planes: &[(u32, Plane)]) -> Vec<PlanePacket> {
         planes
-            .chunks(LANES)
+            .chunks(PLANE_LANES)
             .map(|chunk| {
-                let mut packet =
-                    PlanePacket { point: [Vec4::NAN; 3], normal: [Vec4::NAN; 3], ids: [u32::MAX; LANES] };
+                let mut point = [[f32::NAN; PLANE_LANES]; 3];
+                let mut normal = [[f32::NAN; PLANE_LANES]; 3];
+                let mut ids = [u32::MAX; PLANE_LANES];
                 for (lane, (id, plane)) in chunk.iter().enumerate() {
-                    packet.ids[lane] = *id;
+                    ids[lane] = *id;
                     for axis in 0..3 {
-                        packet.point[axis][lane] = plane.point[axis];
-                        packet.normal[axis][lane] = plane.normal[axis];
+                        point[axis][lane] = plane.point[axis];
+                        normal[axis][lane] = plane.normal[axis];
                     }
                 }
-                packet
+                PlanePacket { point: point.map(f32x8::new), normal: normal.map(f32x8::new), ids }
             })
             .collect()
     }
@@ -165,17 +173,19 @@ impl PlanePacket {
     /// The plane in lane `lane`, and its index.
     #[inline]
     pub(crate) fn plane(&self, lane: usize) -> (u32, Plane) {
-        let at =
-            |row: &[Vec4; 3]| Vec3::new(row[0].as_ref()[lane], row[1].as_ref()[lane], row[2].as_ref()[lane]);
+        let at = |row: &[f32x8; 3]| {
+            Vec3::new(row[0].as_array()[lane], row[1].as_array()[lane], row[2].as_array()[lane])
+        };
         (self.ids[lane], Plane { point: at(&self.point), normal: at(&self.normal) })
     }
 
-    /// A mask of the lanes that [`Plane::intersect`] hits with t in (0, `t_max`), and their
-    /// distances. Each line repeats, four lanes at a time, the operation it is named after.
+    /// A mask of the lanes that [`Plane::distance`] hits with t in (0, `t_max`) (all bits of
+    /// the lane set), and their distances. Each line repeats, eight lanes at a time, the operation it
+    /// is named after.
     #[inline(always)]
-    fn hits(&self, ray: &Ray, t_max: f32) -> (BVec4A, Vec4) {
-        let [origin_x, origin_y, origin_z] = ray.origin.to_array().map(Vec4::splat);
-        let [dir_x, dir_y, dir_z] = ray.dir.to_array().map(Vec4::splat);
+    fn hits(&self, ray: &Ray, t_max: f32) -> (f32x8, f32x8) {
+        let [origin_x, origin_y, origin_z] = ray.origin.to_array().map(f32x8::splat);
+        let [dir_x, dir_y, dir_z] = ray.dir.to_array().map(f32x8::splat);
         let [normal_x, normal_y, normal_z] = self.normal;
         // to_plane = point − origin.
         let (to_x, to_y, to_z) =
@@ -185,32 +195,39 @@ impl PlanePacket {
         let denominator = dir_x * normal_x + dir_y * normal_y + dir_z * normal_z;
         let (abs_x, abs_y, abs_z) = (normal_x.abs(), normal_y.abs(), normal_z.abs());
         let error_numerator =
-            Vec4::splat(gamma(4)) * (to_x.abs() * abs_x + to_y.abs() * abs_y + to_z.abs() * abs_z);
+            f32x8::splat(gamma(4)) * (to_x.abs() * abs_x + to_y.abs() * abs_y + to_z.abs() * abs_z);
         let error_denominator =
-            Vec4::splat(gamma(3)) * (dir_x.abs() * abs_x + dir_y.abs() * abs_y + dir_z.abs() * abs_z);
+            f32x8::splat(gamma(3)) * (dir_x.abs() * abs_x + dir_y.abs() * abs_y + dir_z.abs() * abs_z);
         let t = numerator / denominator;
-        let hit = numerator.abs().cmpgt(error_numerator)
-            & denominator.abs().cmpgt(error_denominator)
-            & t.cmpgt(Vec4::ZERO)
-            & t.cmplt(Vec4::splat(t_max));
+        let hit = numerator.abs().simd_gt(error_numerator)
+            & denominator.abs().simd_gt(error_denominator)
+            & t.simd_gt(f32x8::ZERO)
+            & t.simd_lt(f32x8::splat(t_max));
         (hit, t)
     }
 
     /// The lane of the nearest plane hit with t in (0, `t_max`), the first one among equal
-    /// distances (as a scan with a shrinking `t_max` finds it), if any.
-    #[inline]
-    pub(crate) fn nearest(&self, ray: &Ray, t_max: f32) -> Option<usize> {
-        let (hit, t) = self.hits(ray, t_max);
-        if !hit.any() {
+    /// distances (as a scan with a shrinking `t_max` finds it), and its distance: bit for bit
+    /// what [`Plane::distance`] returns for that plane.
+    #[inline(always)]
+    pub(crate) fn nearest(&self, ray: &Ray, t_max: f32) -> Option<(usize, f32)> {
+        let (hits, t) = self.hits(ray, t_max);
+        if !hits.any() {
             return None;
         }
-        let t = Vec4::select(hit, t, Vec4::INFINITY);
-        let nearest = t.min_element();
-        Some(t.cmpeq(Vec4::splat(nearest)).bitmask().trailing_zeros() as usize)
+        // The smallest distance among the lanes hit (a tree of minima, without branches: how
+        // many planes lie ahead changes from ray to ray), then the first lane at it.
+        let t = hits.select(t, f32x8::splat(f32::INFINITY));
+        let d = t.as_array();
+        let least = |a: f32, b: f32| if b < a { b } else { a };
+        let nearest =
+            least(least(least(d[0], d[1]), least(d[2], d[3])), least(least(d[4], d[5]), least(d[6], d[7])));
+        let lane = t.simd_eq(f32x8::splat(nearest)).to_bitmask().trailing_zeros() as usize;
+        Some((lane, nearest))
     }
 
     /// True when a plane of the packet is hit with t in (0, `t_max`).
-    #[inline]
+    #[inline(always)]
     pub(crate) fn any(&self, ray: &Ray, t_max: f32) -> bool {
         self.hits(ray, t_max).0.any()
     }
