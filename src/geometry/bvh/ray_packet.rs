@@ -3,9 +3,9 @@
 //!
 //! A *ray packet* (I. Wald, P. Slusallek, C. Benthin, M. Wagner, "Interactive Rendering with
 //! Coherent Ray Tracing", *Computer Graphics Forum* 20(3), 2001) visits a node once for all its
-//! rays: each child box is tested against the sixteen rays in one 16-wide slab test (one
-//! AVX-512 instruction per step where the CPU has it, two AVX2 or four SSE ones elsewhere, by
-//! the `wide` crate), and a child is entered with the mask of the rays that enter it. Where
+//! rays: each child box is tested against the sixteen rays in one 16-wide slab test (two
+//! AVX2 or four SSE instructions per step, by the `wide` crate; `.cargo/config.toml` leaves
+//! AVX-512 out), and a child is entered with the mask of the rays that enter it. Where
 //! the packet thins out, in the lower levels and the leaves, the few rays left continue one by
 //! one through the single-ray traversal of [`Bvh::closest_hit`] from that child on (the
 //! hybrid of C. Benthin, I. Wald, S. Woop, M. Ernst, W. R. Mark, "Combining Single and Packet

@@ -1,8 +1,7 @@
 //! A lossless stack at every wavelength lane of a vertex at once: the same transfer-matrix
 //! method as [`super::thin_film_amplitudes`]'s real path (module documentation there), each
-//! quantity one [`wide::f64x8`] over the [`LANES`] lanes (one AVX-512 register where the CPU has
-//! it, with fused multiply-adds; two AVX2 halves otherwise; `.cargo/config.toml` builds for the
-//! host). Issue 41's speed target (a coated interface at most 2× a bare one per lane) is what
+//! quantity one [`wide::f64x8`] over the [`LANES`] lanes (two AVX2 halves, with fused multiply-adds:
+//! `.cargo/config.toml` builds for the host, without AVX-512, which measured slower). Issue 41's speed target (a coated interface at most 2× a bare one per lane) is what
 //! it is for.
 //!
 //! The lanes share the angle of incidence (every lane of a vertex arrives along one direction);
