@@ -110,8 +110,8 @@ const ROULETTE_SCALE: f32 = 4.0;
 /// (the position and wavelength's, then one per diffuse vertex: the first two vertices'); later
 /// groups are hashed independent numbers ([`PixelRng::sobol_groups`]). Measured on TP6 with its
 /// quad light (150×100, six seeds, `--unpolarized`): from the third diffuse vertex on, relMSE at
-/// 32 spp +1 % and render CPU −6 % (5.5 % less time to equal error); from the second, +4 % and
-/// −9 %; validation/bench/RESULTS.md.
+/// 32 spp +1.4 % and render CPU −6 % (about 5 % less time to equal error); from the second, +4 %
+/// and −9 %; validation/bench/RESULTS.md.
 const SOBOL_GROUPS: u32 = 3;
 
 /// The path tracer over one scene.
