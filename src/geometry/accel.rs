@@ -116,13 +116,19 @@ struct Few {
     /// Each quad's id, corner and unit normal (`edge1 × edge2` normalised; none is degenerate),
     /// for [`leaves_quad_plane`].
     quads: Vec<(u32, Vec3, Vec3)>,
-    /// The quads' halves, copied from the packets that hold them (every packet but the
-    /// spheres'), all tested in one 16-wide pass when they fill more than [`FEW_QUAD_PACKETS`]
-    /// packets (the scalar test of each half costs more).
-    lanes: QuadLanes,
-    /// The 4-wide packets that hold the quad halves, in leaf order, tested one after another
-    /// instead of `lanes` when they are at most [`FEW_QUAD_PACKETS`] (else empty).
-    packets: Vec<Packet>,
+    /// The quads' halves, by the test that searches them.
+    halves: FewQuads,
+}
+
+/// How a small scene's quad halves are searched (see `Few`).
+#[derive(Debug, Clone)]
+enum FewQuads {
+    /// The 4-wide packets that hold them, in leaf order, one after another: when they are at
+    /// most [`FEW_QUAD_PACKETS`].
+    Packets(Vec<Packet>),
+    /// All of them in one 16-wide pass (the scalar test of each half costs more): when there
+    /// are more packets.
+    Lanes(QuadLanes),
 }
 
 impl Few {
@@ -149,11 +155,14 @@ impl Few {
             Shape::Quad(quad) => quad,
             _ => unreachable!("quad lanes hold quads"),
         };
-        let lanes = QuadLanes::of(packets.iter().filter(|packet| !packet.holds_spheres()), quad_of)?;
         let quad_packets: Vec<Packet> =
             packets.iter().filter(|packet| !packet.holds_spheres()).copied().collect();
-        let packets = if quad_packets.len() <= FEW_QUAD_PACKETS { quad_packets } else { Vec::new() };
-        Some(Self { spheres: SphereLanes::of(&spheres)?, quads, lanes, packets })
+        let halves = if quad_packets.len() <= FEW_QUAD_PACKETS {
+            FewQuads::Packets(quad_packets)
+        } else {
+            FewQuads::Lanes(QuadLanes::of(quad_packets.iter(), quad_of)?)
+        };
+        Some(Self { spheres: SphereLanes::of(&spheres)?, quads, halves })
     }
 
     /// Whether every quad but `except` (a shape id, or `u32::MAX` for none) is surely missed by
@@ -266,24 +275,29 @@ impl Geometry {
         }
         if !few.quads_missed(ray, u32::MAX) {
             let sheared = ShearedRay::new(*ray);
-            if !few.packets.is_empty() {
-                let mut nearest = None;
-                for packet in &few.packets {
-                    t_limit = packet.test(&sheared, t_limit).nearer(
-                        t_limit,
-                        |lane, limit| packet.intersect_lane(lane, &sheared, limit),
-                        |lane, hit| nearest = Some((packet, lane, hit)),
-                    );
+            match &few.halves {
+                FewQuads::Packets(packets) => {
+                    let mut nearest = None;
+                    for packet in packets {
+                        t_limit = packet.test(&sheared, t_limit).nearer(
+                            t_limit,
+                            |lane, limit| packet.intersect_lane(lane, &sheared, limit),
+                            |lane, hit| nearest = Some((packet, lane, hit)),
+                        );
+                    }
+                    if let Some((packet, lane, hit)) = nearest {
+                        let (u, v) = quad_uv(packet.lane(lane), &hit);
+                        return match self.shapes[packet.id(lane) as usize] {
+                            Shape::Quad(quad) => quad.hit_record(hit.t, u, v, packet.id(lane)),
+                            _ => None,
+                        };
+                    }
                 }
-                if let Some((packet, lane, hit)) = nearest {
-                    let (u, v) = quad_uv(packet.lane(lane), &hit);
-                    return match self.shapes[packet.id(lane) as usize] {
-                        Shape::Quad(quad) => quad.hit_record(hit.t, u, v, packet.id(lane)),
-                        _ => None,
-                    };
+                FewQuads::Lanes(lanes) => {
+                    if let Some((lane, hit)) = lanes.nearest(&sheared, t_limit) {
+                        return Some(lanes.hit_record(lane, &hit));
+                    }
                 }
-            } else if let Some((lane, hit)) = few.lanes.nearest(&sheared, t_limit) {
-                return Some(few.lanes.hit_record(lane, &hit));
             }
         }
         match sphere {
@@ -491,12 +505,14 @@ impl Geometry {
             return false;
         }
         let sheared = ShearedRay::new(*ray);
-        if few.packets.is_empty() {
-            return few.lanes.any(&sheared, t_max);
+        match &few.halves {
+            FewQuads::Packets(packets) => packets.iter().any(|packet| {
+                packet
+                    .test(&sheared, t_max)
+                    .any(|lane| packet.intersect_lane(lane, &sheared, t_max).is_some())
+            }),
+            FewQuads::Lanes(lanes) => lanes.any(&sheared, t_max),
         }
-        few.packets.iter().any(|packet| {
-            packet.test(&sheared, t_max).any(|lane| packet.intersect_lane(lane, &sheared, t_max).is_some())
-        })
     }
 
     /// [`Self::occluded`] for any scene but a few spheres and planes (kept apart as
