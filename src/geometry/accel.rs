@@ -121,6 +121,8 @@ struct Few {
 }
 
 /// How a small scene's quad halves are searched (see `Few`).
+// One per scene: the lanes' size costs nothing, a box would add a load to every ray.
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone)]
 enum FewQuads {
     /// The 4-wide packets that hold them, in leaf order, one after another: when they are at
